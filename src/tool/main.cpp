@@ -1,0 +1,50 @@
+// railvib_tool: one command-line entry to every analysis of the core library.
+#include <iostream>
+
+#include "command_registry.hpp"
+#include "railvib/common/args.hpp"
+#include "railvib/common/config.hpp"
+
+namespace railvib::tool {
+std::map<std::string, CommandInfo>& commandRegistry() {
+  static std::map<std::string, CommandInfo> registry;
+  return registry;
+}
+}  // namespace railvib::tool
+
+namespace {
+void printUsage() {
+  std::cout << "usage: railvib_tool COMMAND [options]   (railvib_tool COMMAND --help for its options)\n\ncommands:\n";
+  for (const auto& [name, info] : railvib::tool::commandRegistry()) {
+    std::cout << "  " << name << std::string(name.size() < 20 ? 20 - name.size() : 1, ' ') << info.summary << "\n";
+  }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    printUsage();
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string command = argv[1];
+  auto& registry = railvib::tool::commandRegistry();
+  auto it = registry.find(command);
+  if (it == registry.end()) {
+    std::cerr << "railvib_tool: unknown command '" << command << "'\n";
+    printUsage();
+    return 2;
+  }
+  std::vector<std::string> args(argv + 2, argv + argc);
+  try {
+    return it->second.run(args);
+  } catch (const railvib::ConfigError& e) {
+    std::cerr << e.what() << "\n";
+    return 3;
+  } catch (const railvib::ArgError& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "railvib_tool " << command << ": error: " << e.what() << "\n";
+    return 1;
+  }
+}

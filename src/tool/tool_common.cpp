@@ -1,0 +1,23 @@
+#include "tool_common.hpp"
+
+#include <cstdlib>
+
+#ifndef RAILVIB_SOURCE_DIR
+#define RAILVIB_SOURCE_DIR "."
+#endif
+
+namespace railvib::tool {
+
+std::string defaultConfigPath() {
+  if (const char* env = std::getenv("RAILVIB_CONFIG")) return env;
+  return std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml";
+}
+
+void addConfigOptions(ArgParser& parser) {
+  parser.option("config", "scenario YAML file", defaultConfigPath());
+  parser.option("set", "override a config value, key.path=value (repeatable)");
+}
+
+Config loadConfig(const ArgParser& parser) { return Config::load(parser.get("config"), parser.getAll("set")); }
+
+}  // namespace railvib::tool

@@ -1,0 +1,25 @@
+// railvib_tool: helpers shared by subcommands.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <iostream>
+#include <string>
+
+#include "railvib/common/args.hpp"
+#include "railvib/common/config.hpp"
+
+namespace railvib::tool {
+
+/// Default scenario file: $RAILVIB_CONFIG, else config/haren.yaml of the source tree.
+std::string defaultConfigPath();
+
+/// Declare the options every config-driven command takes: --config FILE and --set key=value.
+void addConfigOptions(ArgParser& parser);
+
+/// Load the configuration named by --config with the --set overrides.
+Config loadConfig(const ArgParser& parser);
+
+/// Print a JSON summary on stdout (indented).
+inline void printJson(const nlohmann::json& summary) { std::cout << summary.dump(2) << std::endl; }
+
+}  // namespace railvib::tool
