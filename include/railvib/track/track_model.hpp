@@ -1,0 +1,201 @@
+// railvib/track: flexible track (one rail = half track) on discrete supports.
+//
+// Rail: Euler-Bernoulli beam, Hermite cubic elements (w, theta per node),
+// `elements_per_bay` elements between sleepers. Under each sleeper node:
+// railpad spring/dashpot rail -> sleeper mass, ballast spring/dashpot
+// sleeper -> foundation. Foundation models:
+//   clm     per sleeper a mass m_f, k_f/d_f to ground, k_c/d_c to the
+//           neighbouring foundation masses (d_c may be negative);
+//   winkler no foundation mass: the ballast is in series with the equivalent
+//           Winkler spring k_f = k_b / ratio and a damper d_f to ground. The
+//           series junction is a MASSLESS node (a DOF with zero mass): exact
+//           series combination in the frequency domain, a first-order
+//           relaxation in the time domain (integrated by the same Newmark
+//           scheme; K_eff stays SPD because K is SPD);
+//   rigid   ballast to a fixed ground (verification model).
+//
+// Conventions: x along the track (m); vertical displacements positive
+// DOWNWARD, loads positive downward (contact force in compression pushes the
+// rail down). Rail slope theta = dw/dx (w downward).
+//
+// Ballast-to-soil load of sleeper i (half track, N, positive downward):
+//   f_i = k_b (u_sleeper - u_base) + d_b (v_sleeper - v_base),
+// the force the ballast spring/dashpot puts on the foundation (base = CLM
+// foundation mass, Winkler massless node, or fixed ground). In the Winkler
+// case it equals the force transmitted to the ground (massless node). The
+// soil receives both rails: 2 f_i. The track's own dead weight is not
+// included (linear model, loads from the vehicle only).
+//
+// Track ends: the rail is free at the first/last sleeper; over
+// `ends.absorbing_length_m` at each end a mass-proportional damping layer
+// C_abs = eta(x) M (rail consistent mass, sleeper and foundation masses) with
+// eta(x) = eta_max (d/L_abs)^2 (d = depth into the layer) absorbs outgoing
+// bending and foundation waves. It is velocity-proportional to ground only,
+// so statics are unaffected. See docs/track.md for the measured reflection.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "railvib/common/config.hpp"
+
+namespace railvib::track {
+
+enum class FoundationModel { Clm, Winkler, Rigid };
+
+std::string foundationName(FoundationModel model);
+
+struct ClmParams {
+  double mass_kg = 2502.0;
+  double stiffness_n_m = 30.0e6;
+  double damping_n_s_m = 150.0e3;
+  double coupling_stiffness_n_m = 41.0e6;
+  double coupling_damping_n_s_m = -23.0e3;
+};
+
+struct WinklerParams {
+  /// Equivalent Winkler foundation stiffness per sleeper, k_f = k_b / ratio.
+  double stiffness_n_m = 32.0e6 / 0.26;
+  double damping_n_s_m = 150.0e3;
+};
+
+struct EndParams {
+  /// Length of the damping layer at each end (0 = no layer).
+  double absorbing_length_m = 12.0;
+  /// Maximum mass-proportional damping rate eta_max (1/s) at the very end.
+  double max_damping_rate_1_s = 1500.0;
+};
+
+struct TrackParams {
+  // rail
+  double rail_bending_stiffness_n_m2 = 4.17e6;
+  double rail_mass_per_length_kg_m = 54.0;
+  int elements_per_bay = 4;
+  // sleepers
+  double sleeper_spacing_m = 0.72;
+  double sleeper_mass_kg = 45.0;
+  /// Sleepers at x = offset + k * spacing inside [x_min, x_max].
+  double sleeper_offset_m = 0.0;
+  // railpad, ballast (per rail seat)
+  double railpad_stiffness_n_m = 90.0e6;
+  double railpad_damping_n_s_m = 30.0e3;
+  double ballast_stiffness_n_m = 32.0e6;
+  double ballast_damping_n_s_m = 52.0e3;
+  // foundation
+  FoundationModel foundation = FoundationModel::Clm;
+  ClmParams clm;
+  WinklerParams winkler;
+  // extent and ends
+  double x_min_m = -50.0;
+  double x_max_m = 50.0;
+  EndParams ends;
+  /// Rate of the ballast-to-soil loads handed to the soil (decimation target).
+  double load_sample_rate_hz = 2000.0;
+
+  /// Minimum number of sleepers a model must have.
+  static constexpr int kMinSleepers = 10;
+};
+
+/// Read and validate the `track` section (ranges + consistency). Throws ConfigError.
+TrackParams loadTrackParams(const ConfigNode& track_section);
+
+/// A position on the rail: the 4 DOFs of the Hermite element holding it and
+/// the shape-function weights. Rail displacement w(x) = sum weights[k] * u[dofs[k]],
+/// slope dw/dx = sum slope_weights[k] * u[dofs[k]]. A unit point load at x has
+/// the consistent nodal load vector r with r[dofs[k]] = weights[k].
+struct RailPoint {
+  double x_m = 0.0;
+  std::array<Eigen::Index, 4> dofs{};
+  std::array<double, 4> weights{};
+  std::array<double, 4> slope_weights{};
+
+  double displacement(const Eigen::VectorXd& u) const {
+    return weights[0] * u[dofs[0]] + weights[1] * u[dofs[1]] + weights[2] * u[dofs[2]] + weights[3] * u[dofs[3]];
+  }
+  double slope(const Eigen::VectorXd& u) const {
+    return slope_weights[0] * u[dofs[0]] + slope_weights[1] * u[dofs[1]] + slope_weights[2] * u[dofs[2]] +
+           slope_weights[3] * u[dofs[3]];
+  }
+  /// f += force * r (consistent nodal load of a point load).
+  void addLoad(double force_n, Eigen::VectorXd& f) const {
+    for (int k = 0; k < 4; ++k) f[dofs[k]] += force_n * weights[k];
+  }
+};
+
+/// A vertical point load on the rail (N, positive downward).
+struct PointLoad {
+  double x_m = 0.0;
+  double force_n = 0.0;
+};
+
+/// Assembled matrices of one rail on its supports.
+class TrackModel {
+ public:
+  explicit TrackModel(const TrackParams& params);
+
+  const TrackParams& params() const { return params_; }
+  Eigen::Index dofCount() const { return n_dof_; }
+  const Eigen::SparseMatrix<double>& mass() const { return M_; }
+  const Eigen::SparseMatrix<double>& damping() const { return C_; }
+  const Eigen::SparseMatrix<double>& stiffness() const { return K_; }
+
+  int sleeperCount() const { return static_cast<int>(sleeper_x_.size()); }
+  const std::vector<double>& sleeperPositions() const { return sleeper_x_; }
+  int railNodeCount() const { return static_cast<int>(node_x_.size()); }
+  const std::vector<double>& railNodePositions() const { return node_x_; }
+  double railStart() const { return node_x_.front(); }
+  double railEnd() const { return node_x_.back(); }
+  /// Positions inside the damping layers are "absorbing"; loads should stay out of them.
+  double interiorStart() const { return railStart() + params_.ends.absorbing_length_m; }
+  double interiorEnd() const { return railEnd() - params_.ends.absorbing_length_m; }
+
+  /// DOF indices: rail deflection / rotation of node j, sleeper i, base of sleeper i
+  /// (foundation mass or Winkler massless node; -1 for the rigid model).
+  Eigen::Index railW(int node) const { return rail_dof_[node]; }
+  Eigen::Index railTheta(int node) const { return rail_dof_[node] + 1; }
+  Eigen::Index sleeperDof(int sleeper) const { return sleeper_dof_[sleeper]; }
+  Eigen::Index baseDof(int sleeper) const { return base_dof_[sleeper]; }
+  /// Rail node index of sleeper i.
+  int sleeperNode(int sleeper) const { return sleeper * params_.elements_per_bay; }
+
+  /// Rail interpolation at x (throws std::out_of_range outside the rail).
+  RailPoint railPoint(double x_m) const;
+  /// Consistent load vector of point loads (size dofCount()).
+  Eigen::VectorXd loadVector(const std::vector<PointLoad>& loads) const;
+
+  /// Ballast force on the foundation per sleeper (N, positive downward), half track.
+  void ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::vector<double>& out) const;
+  std::vector<double> ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
+
+  /// Static deflection K u = f under point loads.
+  Eigen::VectorXd staticDeflection(const std::vector<PointLoad>& loads) const;
+
+  /// Direct receptance (m/N) of the rail at x: w(x) / F(x) for the harmonic
+  /// load F e^{i w t}; (K - w^2 M + i w C) X = r. One sparse LU per frequency.
+  std::complex<double> receptance(double x_m, double frequency_hz) const;
+  std::vector<std::complex<double>> receptance(double x_m, const std::vector<double>& frequencies_hz) const;
+
+  /// Strain energy 1/2 u^T K u and kinetic energy 1/2 v^T M v (J).
+  double strainEnergy(const Eigen::VectorXd& u) const;
+  double kineticEnergy(const Eigen::VectorXd& v) const;
+
+  /// Smallest eigenvalue sign check of C (false if C is indefinite, e.g. strongly negative d_c).
+  bool dampingIsPositiveSemiDefinite() const;
+
+ private:
+  void build();
+
+  TrackParams params_;
+  Eigen::Index n_dof_ = 0;
+  std::vector<double> node_x_;
+  std::vector<double> sleeper_x_;
+  std::vector<Eigen::Index> rail_dof_, sleeper_dof_, base_dof_;
+  double element_length_ = 0.0;
+  Eigen::SparseMatrix<double> M_, C_, K_;
+};
+
+}  // namespace railvib::track

@@ -1,0 +1,108 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+
+#include "railvib/common/config.hpp"
+
+using railvib::Config;
+using railvib::ConfigError;
+using railvib::Range;
+
+namespace {
+
+// Expect a ConfigError whose message contains every fragment.
+void expectConfigError(const std::function<void()>& fn, const std::vector<std::string>& fragments) {
+  try {
+    fn();
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+  }
+}
+
+std::filesystem::path writeFile(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+}  // namespace
+
+TEST(Range, ContainsAndDescribesBounds) {
+  EXPECT_TRUE(Range::positive().contains(1e-12));
+  EXPECT_FALSE(Range::positive().contains(0.0));
+  EXPECT_TRUE(Range::nonNegative().contains(0.0));
+  EXPECT_FALSE(Range::closed(0, 0.5).contains(std::nan("")));
+  EXPECT_TRUE(Range::closed(0, 0.5).contains(0.5));
+  EXPECT_FALSE(Range::open(-1, 0.5).contains(0.5));
+  EXPECT_EQ(Range::positive().describe(), "(0, inf)");
+  EXPECT_EQ(Range::closed(1, 2).describe(), "[1, 2]");
+}
+
+TEST(Config, ReadsTypedValuesWithRanges) {
+  const Config c = Config::fromString("track:\n  rail:\n    mass_kg: 54\n    n: 4\n  model: clm\n  on: true\n  v: [1, 2]\n");
+  const auto rail = c.section("track").section("rail");
+  EXPECT_DOUBLE_EQ(rail.number("mass_kg", Range::positive()), 54.0);
+  EXPECT_EQ(rail.integer("n", 1, 10), 4);
+  EXPECT_EQ(c.section("track").choice("model", {"clm", "winkler"}), "clm");
+  EXPECT_TRUE(c.section("track").flag("on"));
+  EXPECT_EQ(c.section("track").numbers("v", Range::any()).size(), 2u);
+  EXPECT_DOUBLE_EQ(rail.number("absent_m", Range::positive(), 3.5), 3.5);
+}
+
+TEST(Config, ErrorsNameKeyPathValueRangeAndFile) {
+  const Config c = Config::fromString(
+      "track:\n  mass_kg: -3\n  nan_value: .nan\n  text_value: abc\n  model: bogus\n  n: 2.5\n  list: [1, x]\n",
+      "cfg.yaml");
+  const auto t = c.section("track");
+  expectConfigError([&] { t.number("mass_kg", Range::positive()); }, {"track.mass_kg", "-3", "(0, inf)", "cfg.yaml"});
+  expectConfigError([&] { t.number("nan_value", Range::any()); }, {"track.nan_value", "finite"});
+  expectConfigError([&] { t.number("text_value", Range::any()); }, {"track.text_value", "abc", "number"});
+  expectConfigError([&] { t.number("missing_m", Range::any()); }, {"track.missing_m", "missing"});
+  expectConfigError([&] { t.choice("model", {"clm", "winkler"}); }, {"track.model", "bogus", "clm, winkler"});
+  expectConfigError([&] { t.integer("n", 1, 10); }, {"track.n", "2.5", "integer"});
+  expectConfigError([&] { t.numbers("list", Range::any()); }, {"track.list", "x"});
+  expectConfigError([&] { t.section("mass_kg"); }, {"track.mass_kg", "map"});
+  expectConfigError([&] { t.fail("mass_kg", "must exceed the sleeper mass"); }, {"track.mass_kg", "sleeper"});
+}
+
+TEST(Config, IncludesMergeAndOverridesWinWithTheirSourceNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / "railvib_config_test";
+  writeFile(dir, "base.yaml", "track:\n  a_m: 1.0\n  b_m: 2.0\n");
+  const auto top = writeFile(dir, "top.yaml", "include: [base.yaml]\ntrack:\n  b_m: 3.0\n");
+  const Config c = Config::load(top.string(), {"track.a_m=-7"});
+  const auto t = c.section("track");
+  EXPECT_DOUBLE_EQ(t.number("b_m", Range::any()), 3.0);  // including file overrides include
+  EXPECT_NE(t.fileOf("b_m").find("top.yaml"), std::string::npos);
+  expectConfigError([&] { t.number("a_m", Range::positive()); }, {"track.a_m", "-7", "command-line override"});
+  // An untouched key keeps the file it came from.
+  const Config c2 = Config::load(top.string());
+  expectConfigError([&] { c2.section("track").number("a_m", Range::greaterThan(5)); }, {"base.yaml"});
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Config, RejectsIncludeCyclesMissingFilesAndBadYaml) {
+  const auto dir = std::filesystem::temp_directory_path() / "railvib_config_cycle";
+  writeFile(dir, "a.yaml", "include: [b.yaml]\n");
+  writeFile(dir, "b.yaml", "include: [a.yaml]\n");
+  writeFile(dir, "bad.yaml", "track: [unclosed\n");
+  writeFile(dir, "ok.yaml", "track: {a_m: 1}\n");
+  expectConfigError([&] { Config::load((dir / "a.yaml").string()); }, {"cycle"});
+  expectConfigError([&] { Config::load((dir / "none.yaml").string()); }, {"not found"});
+  expectConfigError([&] { Config::load((dir / "bad.yaml").string()); }, {"bad.yaml", "YAML"});
+  expectConfigError([&] { Config::load((dir / "ok.yaml").string(), {"novalue"}); }, {"key.path=value"});
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Config, HarenScenarioLoadsAndCarriesPaperValues) {
+  const Config c = Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml");
+  // Spot checks of the paper's appendix values reaching the merged tree.
+  EXPECT_DOUBLE_EQ(c.section("track").section("ballast").number("stiffness_n_m", Range::positive()), 32.0e6);
+  EXPECT_DOUBLE_EQ(c.section("vehicle").section("carbody").number("end_mass_kg", Range::positive()), 7580.0);
+  EXPECT_DOUBLE_EQ(c.section("soil").number("rayleigh_beta_s", Range::nonNegative()), 4.0e-4);
+  EXPECT_NEAR(c.section("simulation").number("speed_m_s", Range::positive()) * 3.6, 30.0, 1e-9);
+}
