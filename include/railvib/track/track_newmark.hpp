@@ -29,9 +29,12 @@
 
 namespace railvib::track {
 
+/// Sparse Cholesky backend for K_eff (both factorise once; see docs/track.md for timings).
+enum class TrackSolverKind { EigenSimplicialLLT, CholmodSupernodalLLT };
+
 class TrackNewmark {
  public:
-  TrackNewmark(const TrackModel& model, double dt_s);
+  TrackNewmark(const TrackModel& model, double dt_s, TrackSolverKind solver = TrackSolverKind::EigenSimplicialLLT);
   ~TrackNewmark();
   TrackNewmark(const TrackNewmark&) = delete;
   TrackNewmark& operator=(const TrackNewmark&) = delete;

@@ -1,0 +1,48 @@
+// railvib/building: modal analysis (sparse shift-invert Lanczos).
+//
+// K phi = w^2 M phi with the lumped (positive semi-definite) mass, solved as
+// the symmetric standard problem  M^1/2 (K - sigma M)^-1 M^1/2 z = nu z,
+// nu = 1/(w^2 - sigma), with Spectra's Lanczos solver and a CHOLMOD
+// supernodal Cholesky factorisation of K - sigma M (done once).
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "railvib/building/model.hpp"
+
+namespace railvib::building {
+
+struct Mode {
+  double frequency_hz = 0.0;
+  Eigen::VectorXd shape;  ///< all DOFs (zeros on constrained ones), mass-normalised
+  Eigen::Vector3d effective_mass_kg = Eigen::Vector3d::Zero();  ///< x, y, z base translation
+  double torsion_mass_fraction = 0.0;  ///< effective rotational inertia about z / total (free DOFs)
+  std::string label;
+  double symmetry_x = 0.0;  ///< +1 symmetric / -1 antisymmetric about the plane x = mid-length
+  double symmetry_y = 0.0;  ///< about the plane y = mid-width
+  bool symmetric = false;   ///< symmetric about both vertical mid-planes
+};
+
+struct ModalOptions {
+  double fmax_hz = 50.0;
+  bool fixed_base = true;   ///< false: free-free model (rigid-body check)
+  int min_modes = 10;
+  int max_modes = 400;
+};
+
+struct ModalResult {
+  std::vector<Mode> modes;          ///< ascending frequency, all below fmax (at least min_modes)
+  double free_mass_kg = 0.0;        ///< translational mass of the free DOFs (per direction)
+  Eigen::Vector3d cumulative_effective_mass_fraction = Eigen::Vector3d::Zero();
+  int dof_count = 0;                ///< free DOFs
+  double seconds = 0.0;
+};
+
+ModalResult modalAnalysis(const BuildingModel& model, const ModalOptions& options = {});
+
+/// Automatic label of a mode from its kinetic energy distribution (exposed for tests).
+std::string labelMode(const BuildingModel& model, const Mode& mode, double total_mass_kg);
+
+}  // namespace railvib::building

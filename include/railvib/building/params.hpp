@@ -1,0 +1,81 @@
+// railvib/building: parameters of the house model (section `building`, placement from `site`).
+//
+// Building frame: origin at the outer corner of the front wall on the ground
+// surface, x along the length (parallel to the track, same direction as the
+// track x), y across the width away from the track, z up. Its axes are
+// parallel to the `track` frame: a vector has the same components in both.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "railvib/common/config.hpp"
+
+namespace railvib::building {
+
+/// Isotropic linear-elastic material of a shell section.
+struct ShellMaterial {
+  double young_modulus_pa = 0.0;
+  double shear_modulus_pa = 0.0;
+  double density_kg_m3 = 0.0;
+  /// nu = E / (2 G) - 1.
+  double poisson() const { return young_modulus_pa / (2.0 * shear_modulus_pa) - 1.0; }
+};
+
+/// A named point where velocities are output (building frame).
+struct NamedPoint {
+  std::string name;
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double z_m = 0.0;
+};
+
+/// A rectangular opening (window, door) cut into an exterior wall.
+struct Opening {
+  std::string wall;         ///< front | back | left | right
+  double start_m = 0.0;     ///< along the wall, from its low-x (front/back) or low-y (left/right) end
+  double bottom_m = 0.0;    ///< above the ground surface (z)
+  double width_m = 0.0;
+  double height_m = 0.0;
+};
+
+struct BuildingParams {
+  // Geometry [paper]: outer plan dimensions and height above the ground surface.
+  double length_m = 10.0;
+  double width_m = 7.0;
+  double height_m = 5.0;
+  int storeys = 2;
+  bool roof_slab = false;  ///< [assumed] top slab at z = height
+
+  double wall_thickness_m = 0.25;
+  ShellMaterial wall;
+  double floor_thickness_m = 0.20;
+  ShellMaterial floor;
+
+  double foundation_depth_m = 0.85;
+  ShellMaterial foundation;
+  double foundation_wall_thickness_m = 0.25;  ///< [assumed]
+  double base_slab_thickness_m = 0.25;        ///< [assumed]
+  bool ground_slab_on_fill = true;            ///< [assumed] ground slab follows the foundation
+
+  double element_size_m = 0.5;
+  double damping_ratio = 0.02;  ///< [assumed] Rayleigh damping
+  double damping_f1_hz = 5.0;
+  double damping_f2_hz = 50.0;
+  double max_time_step_s = 1.0e-3;
+
+  int footprint_nx = 5;
+  int footprint_ny = 4;
+  std::vector<NamedPoint> response_points;
+  std::vector<Opening> openings;
+
+  // Placement in the track frame (from `site`).
+  double origin_x_track_m = 0.0;  ///< track x of the building frame origin
+  double origin_y_track_m = 0.0;  ///< track y of the building frame origin
+};
+
+/// Load and validate `building` (and, if present, `site` for the placement).
+/// Throws ConfigError with the key path on any invalid or inconsistent value.
+BuildingParams loadBuildingParams(const ConfigNode& root);
+
+}  // namespace railvib::building

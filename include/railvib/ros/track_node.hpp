@@ -1,0 +1,44 @@
+// railvib ROS layer: track node. Subscribes to ContactForces, runs the track
+// (railvib::track::SoilLoadStream), publishes SoilLoads blocks and the latched
+// SleeperLayout.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <memory>
+
+#include "railvib/ContactForces.h"
+#include "railvib/SoilLoads.h"
+#include "railvib/common/progress.hpp"
+#include "railvib/common/sample_stream.hpp"
+#include "railvib/ros/block_publisher.hpp"
+#include "railvib/track/soil_load_stream.hpp"
+
+namespace railvib::ros_io {
+
+class TrackNode {
+ public:
+  /// Private parameters: ~block_duration_s (default 0.05), ~required_subscribers (default 1).
+  TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// True after an error (gap in the input stream, mismatched step...); the node has shut ROS down.
+  bool failed() const { return failed_; }
+
+ private:
+  void onContactForces(const railvib::ContactForces::ConstPtr& msg);
+  void consume(const railvib::ContactForces& block);
+  void publishPending(bool end_of_stream);
+
+  std::unique_ptr<track::SoilLoadStream> stream_;
+  SampleIndexTracker tracker_{"contact_forces"};
+  BlockPublisher<railvib::SoilLoads> loads_publisher_;
+  ros::Publisher layout_publisher_;
+  ros::Subscriber contact_subscriber_;
+  std::vector<double> pending_;  // soil-load samples not yet published, [sample][sleeper]
+  uint64_t next_load_index_ = 0;
+  size_t block_samples_ = 100;
+  std::unique_ptr<ProgressReporter> progress_;
+  bool ended_ = false;
+  bool failed_ = false;
+};
+
+}  // namespace railvib::ros_io

@@ -1,0 +1,173 @@
+// railvib/signal: vibration metrics of buildings and ground.
+//
+//  - DIN 4150-2 / DIN 45669-1 KB weighting, running rms KB_F(t) (tau = 0.125 s)
+//    and KB_Fmax; DIN 4150-2 guide values A_u / A_o / A_r and verdict.
+//  - Peak particle velocity per component and vector sum, dominant frequency
+//    of the peak (zero-crossing half period), DIN 4150-3 short-term guideline
+//    for residential buildings at the foundation and verdict.
+// Every class streams (sample by sample or by block) so nodes use it live;
+// the offline helpers run the same code over a whole record.
+#pragma once
+
+#include <cmath>
+#include <complex>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "railvib/signal/filter_design.hpp"
+
+namespace railvib::signal {
+
+// ------------------------------------------------------------------ KB weighting
+
+struct KbSpec {
+  double highpass_hz = 0.8;  ///< band limit, 2-pole Butterworth high pass
+  double lowpass_hz = 100.0;  ///< band limit, 2-pole Butterworth low pass
+  /// Bilinear matching frequency of the low pass (exact analog magnitude there):
+  /// the top of the 1-80 Hz building range, so a 1 kHz stream stays accurate.
+  double lowpass_match_hz = 80.0;
+  double f0_hz = 5.6;    ///< H_KB = 1 / (1 - i f0 / f), a first-order high pass
+  double tau_s = 0.125;  ///< time constant of the running rms ("F")
+};
+
+/// KB evaluation of one velocity component. Input velocity in mm/s (DIN
+/// 4150-2 divides by v0 = 1 mm/s, so KB is dimensionless).
+class KbWeighting {
+ public:
+  explicit KbWeighting(double fs_hz, const KbSpec& spec = {});
+
+  /// One sample of velocity (mm/s); returns KB_F at that sample.
+  double process(double velocity_mm_s);
+  /// A block; kb_f_out (may be null) receives KB_F per sample.
+  void process(const double* velocity_mm_s, size_t n, double* kb_f_out = nullptr);
+
+  double kb() const { return kb_; }           ///< last weighted sample KB(t)
+  double kbF() const { return std::sqrt(y_); }  ///< last running rms KB_F(t)
+  double kbFmax() const { return kb_fmax_; }  ///< max of KB_F since start / resetMax()
+  double kbFmaxTime() const { return kb_fmax_time_s_; }  ///< time of KB_Fmax (s from the first sample)
+  void resetMax() { kb_fmax_ = 0.0; }
+  void reset();
+  double sampleRate() const { return fs_; }
+  const KbSpec& spec() const { return spec_; }
+
+  /// Digital weighting (band limit * H_KB) at f.
+  std::complex<double> response(double f_hz) const { return filter_.response(f_hz, fs_); }
+  /// Analog reference weighting at f.
+  static std::complex<double> analogResponse(double f_hz, const KbSpec& spec = {});
+
+ private:
+  double fs_;
+  KbSpec spec_;
+  BiquadCascade filter_;
+  double alpha_, c0_, c1_;  // exact exponential average for KB^2 linear between samples
+  double kb_ = 0.0, prev_sq_ = 0.0, y_ = 0.0;
+  double kb_fmax_ = 0.0, kb_fmax_time_s_ = 0.0;
+  uint64_t n_ = 0;
+};
+
+/// KB_F(t) of a whole record (velocity in mm/s).
+std::vector<double> kbFSeries(const std::vector<double>& velocity_mm_s, double fs_hz, const KbSpec& spec = {});
+
+/// DIN 4150-2 guide values (Anhaltswerte), Table 1.
+struct Din4150_2GuideValues {
+  double a_u;  ///< lower value
+  double a_o;  ///< upper value
+  double a_r;  ///< value for the rating level KB_FTr
+};
+enum class Din4150_2Period { Day, Night };
+/// Residential areas ("allgemeine Wohngebiete", row 3): day 0.15 / 3 / 0.07, night 0.1 / 0.2 / 0.05.
+Din4150_2GuideValues din4150_2Residential(Din4150_2Period period);
+
+/// KB_FTm: quadratic mean of the maxima KB_FTi of consecutive 30 s cycles (Takt)
+/// of a KB_F(t) series (a last incomplete cycle counts as a cycle).
+double kbFTm(const std::vector<double>& kb_f, double fs_hz, double cycle_s = 30.0);
+/// Rating value KB_FTr = KB_FTm * sqrt(T_e / T_r) (simplified: one exposure
+/// class, no rest-period surcharge; T_r = 16 h day, 8 h night).
+double kbFTr(double kb_ftm, double exposure_s, Din4150_2Period period);
+
+struct Din4150_2Verdict {
+  bool met = false;
+  std::string reason;
+  Din4150_2GuideValues guide{};
+  double kb_fmax = 0.0;
+  double kb_ftr = 0.0;
+};
+/// DIN 4150-2 procedure: KB_Fmax <= A_u met; KB_Fmax > A_o not met; otherwise met iff KB_FTr <= A_r.
+Din4150_2Verdict din4150_2Verdict(double kb_fmax, double kb_ftr, Din4150_2Period period);
+
+// ----------------------------------------------------------- PPV / DIN 4150-3
+
+/// DIN 4150-3 Table 1 row 2 (residential buildings), short-term, at the
+/// foundation: guideline PPV (mm/s) at dominant frequency f: 5 below 10 Hz,
+/// 5 -> 15 over 10-50 Hz, 15 -> 20 over 50-100 Hz, 20 above.
+double din4150_3ResidentialLimitMmS(double f_hz);
+
+/// Peak of |v| of one component with the dominant frequency of the half cycle
+/// that holds it: f = 1 / (2 (t_zc2 - t_zc1)) between the zero crossings
+/// (linearly interpolated) around the peak. Streaming.
+class PeakTracker {
+ public:
+  explicit PeakTracker(double fs_hz);
+  void process(double v);
+  void process(const double* v, size_t n) {
+    for (size_t i = 0; i < n; ++i) process(v[i]);
+  }
+  /// Peak |v| so far (units of the input).
+  double peak() const { return best_peak_; }
+  double peakTime() const { return best_time_s_; }
+  /// Dominant frequency of the peak's half cycle (Hz). While the half cycle
+  /// holding the peak is open, its duration so far is used (a lower bound of f
+  /// is unknown; the value is provisional). 0 if no zero crossing seen yet.
+  double dominantFrequency() const;
+  bool provisional() const { return best_open_; }
+  void reset();
+
+ private:
+  double fs_;
+  uint64_t n_ = 0;
+  double prev_ = 0.0;
+  double zc_time_s_ = -1.0;  // last zero crossing (s), -1 before the first
+  double cur_peak_ = 0.0, cur_time_s_ = 0.0;
+  double best_peak_ = 0.0, best_time_s_ = 0.0, best_zc_s_ = -1.0, best_half_s_ = 0.0;
+  bool best_open_ = false;
+};
+
+/// Frequency of the largest amplitude-spectrum line (Hann window), Hz.
+double spectralPeakFrequency(const std::vector<double>& x, double fs_hz, double f_min_hz = 1.0);
+
+struct PpvComponent {
+  double ppv_mm_s = 0.0;
+  double time_s = 0.0;
+  double frequency_hz = 0.0;  ///< zero-crossing dominant frequency of the peak
+  double limit_mm_s = 0.0;    ///< DIN 4150-3 residential guideline at that frequency
+  double ratio = 0.0;         ///< ppv / limit
+};
+struct PpvEvaluation {
+  std::vector<PpvComponent> components;
+  double vector_peak_mm_s = 0.0;  ///< max over t of |(vx, vy, vz)|
+  double vector_peak_time_s = 0.0;
+  double max_ratio = 0.0;  ///< max over components of ppv / limit(f)
+  bool exceeded = false;   ///< max_ratio > 1
+};
+
+/// Live PPV / DIN 4150-3 evaluation of C components (mm/s), frame-interleaved input.
+class PpvEvaluator {
+ public:
+  PpvEvaluator(double fs_hz, size_t components);
+  void process(const double* interleaved_mm_s, size_t frames);
+  PpvEvaluation evaluation() const;
+  void reset();
+
+ private:
+  double fs_;
+  std::vector<PeakTracker> trackers_;
+  uint64_t n_ = 0;
+  double vec_peak_ = 0.0, vec_time_s_ = 0.0;
+};
+
+/// Offline evaluation of component records (mm/s).
+PpvEvaluation evaluatePpv(const std::vector<std::vector<double>>& components_mm_s, double fs_hz);
+
+}  // namespace railvib::signal

@@ -1,0 +1,102 @@
+// railvib/soil: structured hexahedral mesh of a layered soil box.
+//
+// Internal frame: x along the track, y lateral, d = depth (down from the free
+// surface, d = 0). The mesh is a box [x0, x0 + nx hx] x [y0, y0 + ny hy] x
+// [0, depth]: uniform in x and y, graded in depth, with every layer interface
+// on an element face. Node (i, j, k) has index i + (nx + 1) * (j + (ny + 1) * k),
+// k = 0 at the surface. Element level k lies between node planes k and k + 1
+// and carries one material.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace railvib::soil {
+
+/// Isotropic linear elastic material.
+struct Material {
+  double young_modulus_pa = 0.0;
+  double density_kg_m3 = 0.0;
+  double poisson_ratio = 0.0;
+
+  double shearModulus() const { return young_modulus_pa / (2.0 * (1.0 + poisson_ratio)); }
+  double lambda() const {
+    return young_modulus_pa * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+  /// Constrained (P-wave) modulus lambda + 2 G.
+  double pModulus() const { return lambda() + 2.0 * shearModulus(); }
+  double vs() const;
+  double vp() const;
+  /// Rayleigh wave speed (root of the Rayleigh equation).
+  double vr() const;
+};
+
+/// One layer of the profile; the last entry of a profile is the half-space
+/// (its thickness is ignored: the mesh stops at the requested depth).
+struct Layer {
+  double thickness_m = 0.0;
+  Material material;
+};
+
+/// What sets the element sizes.
+struct MeshSpec {
+  double x_min_m = -10.0, x_max_m = 10.0;
+  double y_min_m = -10.0, y_max_m = 10.0;
+  double depth_m = 10.0;
+  double f_max_hz = 60.0;
+  /// Elements per shear wavelength Vs / f_max in each layer.
+  double elements_per_wavelength = 8.0;
+  /// Cap on the in-plane element size (0 = none), e.g. to resolve a load footprint.
+  double max_plane_size_m = 0.0;
+};
+
+/// Summary of one element level band (a layer as meshed).
+struct LayerMeshInfo {
+  double top_m = 0.0, bottom_m = 0.0;
+  size_t levels = 0;
+  double dz_m = 0.0;
+  /// Highest frequency with elements_per_wavelength elements per shear
+  /// wavelength, using the largest element dimension of the level.
+  double resolved_hz = 0.0;
+  Material material;
+};
+
+struct StructuredMesh {
+  size_t nx = 0, ny = 0, nz = 0;
+  double x0 = 0.0, y0 = 0.0, hx = 0.0, hy = 0.0;
+  std::vector<double> z;                 // node plane depths, size nz + 1, z[0] = 0
+  std::vector<size_t> level_material;    // per element level, index into materials
+  std::vector<Material> materials;
+  std::vector<LayerMeshInfo> layers;     // one per meshed layer (half-space last)
+
+  size_t nodeCount() const { return (nx + 1) * (ny + 1) * (nz + 1); }
+  size_t elementCount() const { return nx * ny * nz; }
+  size_t node(size_t i, size_t j, size_t k) const { return i + (nx + 1) * (j + (ny + 1) * k); }
+  double x(size_t i) const { return x0 + hx * static_cast<double>(i); }
+  double y(size_t j) const { return y0 + hy * static_cast<double>(j); }
+  double xMax() const { return x(nx); }
+  double yMax() const { return y(ny); }
+  double depth() const { return z.back(); }
+  const Material& levelMaterial(size_t k) const { return materials[level_material[k]]; }
+};
+
+/// Build the graded mesh. Throws std::invalid_argument on an impossible spec
+/// (non-positive sizes, layers thinner than zero, ...).
+StructuredMesh buildMesh(const std::vector<Layer>& profile, const MeshSpec& spec);
+
+/// Build a mesh from explicit node planes (tests): uniform hx, hy; z planes given.
+StructuredMesh buildUniformMesh(size_t nx, size_t ny, double hx, double hy, const std::vector<double>& z_planes,
+                                const std::vector<Material>& level_materials, double x0 = 0.0, double y0 = 0.0);
+
+/// 24 x 24 stiffness of a box hexahedron (trilinear, 2x2x2 Gauss, exact for a
+/// box), row-major, dof = corner * 3 + component, corner = a + 2 b + 4 c for
+/// the node at (a hx, b hy, c hz).
+std::array<double, 576> boxElementStiffness(double hx, double hy, double hz, double lambda, double mu);
+
+/// Largest eigenvalue of M_e^-1 K_e for a box element with lumped mass (an
+/// upper bound of the assembled lambda_max(M^-1 K), Irons' element bound).
+double boxElementMaxEigenvalue(double hx, double hy, double hz, const Material& m);
+
+}  // namespace railvib::soil

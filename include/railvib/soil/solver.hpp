@@ -1,0 +1,133 @@
+// railvib/soil: matrix-free explicit elastodynamics on a StructuredMesh.
+//
+// Scheme (lumped mass M, central difference in velocity form, internal frame
+// x, y, d = depth down):
+//   w_n       = u_n + beta * vf_n                    (damped "effective" field)
+//   f_n       = f_ext(t_n) - K w_n                   (matrix-free, per-level 24x24)
+//   v_{n+1/2} = ((M/dt - C/2) v_{n-1/2} + f_n) / (M/dt + C/2)   (C diagonal)
+//   u_{n+1}   = u_n + dt v_{n+1/2}
+//   vf_{n+1}  = e vf_n + (1 - e) v_{n+1/2},  e = exp(-omega_c dt)
+// C holds the Lysmer-Kuhlemeyer dashpots (rho Vp A normal, rho Vs A
+// tangential) and the mass-proportional damping of an optional absorbing
+// layer; it is treated semi-implicitly (no step limit). The stiffness-
+// proportional Rayleigh damping beta K v is applied to a one-pole low-passed
+// velocity vf (cut-off omega_c above the band of interest): the damping ratio
+// is beta omega / 2 / (1 + (omega/omega_c)^2) in the band, and above omega_c
+// the damping fades out and the operator tends to (1 + beta omega_c) K, so the
+// stable step is the undamped one divided by sqrt(1 + beta omega_c) instead of
+// being multiplied by sqrt(1 + xi^2) - xi with xi = beta omega_max / 2.
+// See docs/soil.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "railvib/soil/mesh.hpp"
+
+namespace railvib::soil {
+
+enum class Precision { Float, Double };
+
+struct SolverExtra;
+
+struct SolverOptions {
+  /// Lysmer-Kuhlemeyer dashpots on x_min, x_max, y_min, y_max faces and the bottom.
+  bool absorb_x_min = true, absorb_x_max = true, absorb_y_min = true, absorb_y_max = true, absorb_bottom = true;
+  /// Mass-proportional absorbing layer along absorbing faces (0 = off): thickness
+  /// and the damping coefficient alpha (1/s) at the outer face, growing as (s/L)^2.
+  double absorbing_layer_m = 0.0;
+  double absorbing_layer_alpha_1_s = 0.0;
+  /// Constrain u_x = u_y = 0 everywhere (1D column tests).
+  bool lateral_rollers = false;
+  /// Stiffness-proportional Rayleigh coefficient and cut-off of the damping filter.
+  double rayleigh_beta_s = 0.0;
+  double damping_cutoff_hz = 300.0;
+  /// Fraction of the stability limit used.
+  double safety_factor = 0.9;
+  /// If > 0: dt is lowered so that 1/dt is an integer multiple of this rate.
+  double align_rate_hz = 0.0;
+  /// Explicit step (0 = computed). Refused if above the stability limit.
+  double dt_s = 0.0;
+  Precision precision = Precision::Float;
+  /// OpenMP threads (0 = all).
+  int threads = 0;
+};
+
+/// Bytes of state the solver allocates for a mesh (checked before allocation).
+size_t solverMemoryBytes(const StructuredMesh& mesh, Precision precision);
+
+/// A sparse set of nodal force weights driven by one scalar channel:
+/// f[node][component] += weight * value(channel).
+struct ForceChannel {
+  std::vector<size_t> nodes;
+  std::vector<int> components;  // 0 x, 1 y, 2 d (down)
+  std::vector<double> weights;
+};
+
+class Solver {
+ public:
+  Solver(StructuredMesh mesh, const SolverOptions& options);
+  ~Solver();
+  Solver(const Solver&) = delete;
+  Solver& operator=(const Solver&) = delete;
+
+  const StructuredMesh& mesh() const { return mesh_; }
+  const SolverOptions& options() const { return options_; }
+  double dt() const { return dt_; }
+  /// Undamped stability limit 2 / sqrt(lambda_max) (element bound) and the
+  /// limit with the filtered Rayleigh damping (before the safety factor).
+  double dtUndamped() const { return dt_undamped_; }
+  double dtDamped() const { return dt_damped_; }
+  /// The limit a naive explicit beta K v would impose.
+  double dtNaiveRayleigh() const { return dt_naive_; }
+  uint64_t stepCount() const { return steps_; }
+  double time() const { return dt_ * static_cast<double>(steps_); }
+  size_t memoryBytes() const;
+
+  /// Register a load channel; returns its index.
+  size_t addForceChannel(ForceChannel channel);
+  /// Values of all channels for the next step (size = channel count).
+  void setChannelValues(const std::vector<double>& values);
+  /// Advance one step with the current channel values at t_n.
+  void step();
+  /// Advance n steps (channel values held).
+  void run(uint64_t n);
+
+  /// Displacement / velocity (v at t_{n-1/2}) component c of a node, internal frame.
+  double displacement(size_t node, int c) const;
+  double velocity(size_t node, int c) const;
+  /// Set displacement (tests: initial conditions). Velocity and filter state remain.
+  void setDisplacement(size_t node, int c, double value);
+  void setVelocity(size_t node, int c, double value);
+  /// Trilinear interpolation of the half-step velocity at a point (x, y, depth).
+  void velocityAt(double x, double y, double d, double out[3]) const;
+  void displacementAt(double x, double y, double d, double out[3]) const;
+  /// Vertical (down) half-step velocity of every surface node, (nx+1)(ny+1) values, i fastest.
+  void surfaceVelocityD(std::vector<double>& out) const;
+
+  /// Internal force -K u for the current displacement (tests: equilibrium, eigen).
+  void internalForce(std::vector<double>& f_out) const;
+  /// Lumped nodal mass.
+  double nodalMass(size_t node) const;
+  /// Sum over the mesh of kinetic energy with the half-step velocity.
+  double kineticEnergy() const;
+
+  /// Measured throughput helpers: element updates done so far and kernel seconds.
+  double kernelSeconds() const { return kernel_s_; }
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<SolverExtra> extra_;
+  StructuredMesh mesh_;
+  SolverOptions options_;
+  double dt_ = 0.0, dt_undamped_ = 0.0, dt_damped_ = 0.0, dt_naive_ = 0.0;
+  uint64_t steps_ = 0;
+  double kernel_s_ = 0.0;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace railvib::soil

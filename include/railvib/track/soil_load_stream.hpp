@@ -1,0 +1,50 @@
+// railvib/track: the track as a stream processor, contact-force samples in,
+// ballast-to-soil load samples out at the soil's rate. This is the whole
+// computation of the track node; the node only moves messages.
+//
+// Contact sample i stands for time i * dt (i = 0 is t = 0). Sample 0 sets the
+// static equilibrium the run starts from (no start-up transient); each later
+// sample advances the Newmark integrator by one step with the loads acting at
+// the end of the step. The per-step soil loads (both rails: 2 x half track,
+// N, downward positive) go through the anti-alias decimator of
+// railvib/signal, whose output sample k stands for time k / load_rate exactly.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "railvib/signal/decimator.hpp"
+#include "railvib/track/track_stepper.hpp"
+
+namespace railvib::track {
+
+class SoilLoadStream {
+ public:
+  /// load_sample_rate_hz must divide 1/dt_s into an integer ratio >= 1.
+  SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz);
+
+  /// Push contact samples, row-major [sample][wheel]: positions (m) and forces (N, compression positive).
+  /// Completed soil-load samples, row-major [sample][sleeper], are appended to `out`; returns their count.
+  size_t push(size_t sample_count, size_t wheel_count, const double* position_m, const double* force_n,
+              std::vector<double>& out);
+  /// End of the contact stream: emit the remaining soil-load samples.
+  size_t flush(std::vector<double>& out);
+
+  int sleeperCount() const { return stepper_.sleeperCount(); }
+  const std::vector<double>& sleeperPositions() const { return stepper_.sleeperPositions(); }
+  double timeStep() const { return stepper_.timeStep(); }
+  double loadSamplePeriod() const { return 1.0 / decimator_.outputRate(); }
+  uint64_t contactSamplesConsumed() const { return contact_samples_; }
+  uint64_t loadSamplesEmitted() const { return decimator_.outputCount(); }
+  /// Simulated time of the last contact sample consumed (s).
+  double time() const { return stepper_.time(); }
+  const TrackStepper& stepper() const { return stepper_; }
+
+ private:
+  TrackStepper stepper_;
+  signal::Decimator decimator_;
+  std::vector<PointLoad> loads_;
+  uint64_t contact_samples_ = 0;
+};
+
+}  // namespace railvib::track

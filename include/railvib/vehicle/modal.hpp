@@ -1,0 +1,62 @@
+// railvib/vehicle: modal analysis and wheel impedances of the vehicle
+// linearised about its static equilibrium.
+//
+// Rigid track: each wheel sits on its linearised Hertz spring
+// k_H = 1.5 C_H delta0^0.5 to ground; the damped eigenproblem is solved
+// exactly (state space, 2 x 18).
+// Flexible track: the vehicle (wheels at their static positions, x_front = 0
+// by default) is coupled through the linearised Hertz springs to a local
+// track model (same parameters, rail `margin_m` beyond the end axles, free
+// rail ends, no absorbing layer). Undamped modes of the coupled system up to
+// `basis_cutoff_hz` form a reduced basis on which the damped eigenproblem is
+// solved (complex). Track modes are filtered out: a mode is kept when the
+// vehicle holds more than `min_vehicle_energy_share` of its kinetic energy.
+// Mode names come from the kinetic-energy distribution over the vehicle's
+// bodies (car-body bounce/pitch, <bogie> bounce/pitch, axle hop, tread).
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "railvib/vehicle/vehicle_model.hpp"
+
+namespace railvib::track {
+struct TrackParams;
+}
+
+namespace railvib::vehicle {
+
+struct Mode {
+  std::string name;          ///< e.g. "car-body bounce", "leading bogie pitch"
+  std::string body;          ///< body with the largest kinetic energy share
+  double frequency_hz = 0.0;  ///< undamped natural frequency |lambda| / 2 pi
+  double damping_ratio = 0.0;  ///< -Re(lambda) / |lambda|
+  double name_share = 0.0;     ///< share of the vehicle kinetic energy in the named category
+  double vehicle_energy_share = 1.0;  ///< share of the total kinetic energy in the vehicle (flexible)
+};
+
+struct ModalOptions {
+  double margin_m = 12.0;
+  double basis_cutoff_hz = 600.0;
+  double min_vehicle_energy_share = 0.5;
+  double front_axle_x_m = 0.0;
+};
+
+/// Linearised Hertz stiffness per wheel at the static equilibrium on a rigid track (N/m).
+std::vector<double> linearisedHertzStiffness(const VehicleModel& model);
+
+std::vector<Mode> vehicleModesRigid(const VehicleModel& model);
+std::vector<Mode> vehicleModesFlexible(const VehicleModel& model, const track::TrackParams& track,
+                                       const ModalOptions& options = {});
+
+/// Direct impedance F/v (N s/m) at wheel `wheel` (force and velocity on the
+/// contact DOF: tread of a motor wheel) on a rigid track, and on the flexible
+/// track (full track model with its ends, cross-receptances between wheels).
+std::vector<std::complex<double>> wheelImpedanceRigid(const VehicleModel& model, int wheel,
+                                                      const std::vector<double>& frequencies_hz);
+std::vector<std::complex<double>> wheelImpedanceFlexible(const VehicleModel& model, const track::TrackParams& track,
+                                                         int wheel, const std::vector<double>& frequencies_hz,
+                                                         double front_axle_x_m = 0.0);
+
+}  // namespace railvib::vehicle

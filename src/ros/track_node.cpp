@@ -1,0 +1,99 @@
+#include "railvib/ros/track_node.hpp"
+
+#include <cmath>
+
+#include "railvib/SleeperLayout.h"
+#include "railvib/ros/node_config.hpp"
+
+namespace railvib::ros_io {
+
+TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
+  const Config config = loadNodeConfig(nh);
+  const auto track_section = config.section("track");
+  const auto simulation = config.section("simulation");
+  const track::TrackParams params = track::loadTrackParams(track_section);
+  const double dt_s = simulation.number("time_step_s", Range::positive());
+  const double rate_hz = track_section.section("output").number("load_sample_rate_hz", Range::positive());
+  stream_ = std::make_unique<track::SoilLoadStream>(params, dt_s, rate_hz);
+  progress_ = std::make_unique<ProgressReporter>("track", simulation.number("duration_s", Range::positive()));
+
+  double block_duration_s = 0.05;
+  int required_subscribers = 1;
+  private_nh.param("block_duration_s", block_duration_s, block_duration_s);
+  private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  block_samples_ = std::max<size_t>(1, static_cast<size_t>(std::lround(block_duration_s * rate_hz)));
+
+  layout_publisher_ = nh.advertise<railvib::SleeperLayout>("sleeper_layout", 1, true);
+  railvib::SleeperLayout layout;
+  layout.header.frame_id = "track";
+  layout.position_m = stream_->sleeperPositions();
+  const auto sleeper = track_section.section("sleeper");
+  layout.length_m = sleeper.number("length_m", Range::positive());
+  layout.width_m = sleeper.number("width_m", Range::positive());
+  layout_publisher_.publish(layout);
+
+  loads_publisher_ = BlockPublisher<railvib::SoilLoads>(nh, "soil_loads", required_subscribers);
+  contact_subscriber_ = nh.subscribe("contact_forces", 0, &TrackNode::onContactForces, this);
+  ROS_INFO("track: %d sleepers, dt %.3g s, soil loads at %.0f Hz in blocks of %zu samples", stream_->sleeperCount(),
+           dt_s, rate_hz, block_samples_);
+}
+
+void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {
+  if (ended_ || failed_) return;
+  try {
+    consume(*msg);
+  } catch (const std::exception& e) {
+    ROS_FATAL("track: %s", e.what());
+    failed_ = true;
+    ros::shutdown();
+  }
+}
+
+void TrackNode::consume(const railvib::ContactForces& block) {
+  const railvib::ContactForces* msg = &block;
+  tracker_.accept(msg->first_sample_index, msg->sample_count);
+  if (std::abs(msg->sample_period_s - stream_->timeStep()) > 1e-12 * stream_->timeStep()) {
+    throw std::runtime_error("contact forces come every " + std::to_string(msg->sample_period_s) +
+                             " s but the track steps every " + std::to_string(stream_->timeStep()) +
+                             " s (simulation.time_step_s)");
+  }
+  const size_t expected = static_cast<size_t>(msg->sample_count) * msg->wheel_count;
+  if (msg->position_m.size() != expected || msg->force_n.size() != expected) {
+    throw std::runtime_error("malformed ContactForces block: array sizes do not match sample_count x wheel_count");
+  }
+  stream_->push(msg->sample_count, msg->wheel_count, msg->position_m.data(), msg->force_n.data(), pending_);
+  if (msg->end_of_stream) {
+    stream_->flush(pending_);
+    ended_ = true;
+  }
+  publishPending(ended_);
+  progress_->update(stream_->time(), ended_);
+  if (ended_) progress_->finish(stream_->time());
+}
+
+void TrackNode::publishPending(bool end_of_stream) {
+  const size_t sleepers = static_cast<size_t>(stream_->sleeperCount());
+  size_t available = pending_.size() / sleepers;
+  size_t offset = 0;
+  while (available - offset >= block_samples_ || (end_of_stream && offset <= available)) {
+    const size_t count = std::min(block_samples_, available - offset);
+    const bool last = end_of_stream && offset + count == available;
+    railvib::SoilLoads block;
+    block.header.frame_id = "track";
+    block.header.stamp = ros::Time(static_cast<double>(next_load_index_) * stream_->loadSamplePeriod());
+    block.first_sample_index = next_load_index_;
+    block.end_of_stream = last;
+    block.sample_period_s = stream_->loadSamplePeriod();
+    block.sample_count = static_cast<uint32_t>(count);
+    block.sleeper_count = static_cast<uint32_t>(sleepers);
+    block.force_n.assign(pending_.begin() + static_cast<long>(offset * sleepers),
+                         pending_.begin() + static_cast<long>((offset + count) * sleepers));
+    loads_publisher_.publish(block);
+    next_load_index_ += count;
+    offset += count;
+    if (last) break;
+  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(offset * sleepers));
+}
+
+}  // namespace railvib::ros_io

@@ -1,0 +1,168 @@
+#include "railvib/soil/mesh.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <stdexcept>
+
+namespace railvib::soil {
+
+double Material::vs() const { return std::sqrt(shearModulus() / density_kg_m3); }
+double Material::vp() const { return std::sqrt(pModulus() / density_kg_m3); }
+
+double Material::vr() const {
+  // Rayleigh equation in x = (c / Vs)^2: (2 - x)^2 - 4 sqrt(1 - x) sqrt(1 - a2 x) = 0, a2 = (Vs/Vp)^2.
+  const double a2 = shearModulus() / pModulus();
+  auto g = [a2](double x) { return (2.0 - x) * (2.0 - x) - 4.0 * std::sqrt(1.0 - x) * std::sqrt(1.0 - a2 * x); };
+  // g < 0 for small x > 0 (g ~ -2 x (1 - a2)), g(1) = 1 > 0: one root in between.
+  double lo = 1e-6, hi = 1.0;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (g(mid) < 0.0) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  return vs() * std::sqrt(0.5 * (lo + hi));
+}
+
+StructuredMesh buildMesh(const std::vector<Layer>& profile, const MeshSpec& spec) {
+  if (profile.empty()) throw std::invalid_argument("soil mesh: empty layer profile");
+  if (!(spec.x_max_m > spec.x_min_m) || !(spec.y_max_m > spec.y_min_m) || !(spec.depth_m > 0.0)) {
+    throw std::invalid_argument("soil mesh: empty box");
+  }
+  if (!(spec.f_max_hz > 0.0) || !(spec.elements_per_wavelength > 0.0)) {
+    throw std::invalid_argument("soil mesh: f_max and elements_per_wavelength must be positive");
+  }
+  StructuredMesh mesh;
+  const double ratio = spec.f_max_hz * spec.elements_per_wavelength;
+  // In-plane size: the softest layer present within the depth.
+  double h_plane = 1e300;
+  double top = 0.0;
+  for (size_t l = 0; l < profile.size(); ++l) {
+    const bool half_space = (l + 1 == profile.size());
+    if (!half_space && !(profile[l].thickness_m > 0.0)) throw std::invalid_argument("soil mesh: layer thickness <= 0");
+    if (top >= spec.depth_m) break;
+    h_plane = std::min(h_plane, profile[l].material.vs() / ratio);
+    if (!half_space) top += profile[l].thickness_m;
+  }
+  if (spec.max_plane_size_m > 0.0) h_plane = std::min(h_plane, spec.max_plane_size_m);
+  const double lx = spec.x_max_m - spec.x_min_m, ly = spec.y_max_m - spec.y_min_m;
+  mesh.nx = static_cast<size_t>(std::ceil(lx / h_plane - 1e-9));
+  mesh.ny = static_cast<size_t>(std::ceil(ly / h_plane - 1e-9));
+  mesh.hx = lx / static_cast<double>(mesh.nx);
+  mesh.hy = ly / static_cast<double>(mesh.ny);
+  mesh.x0 = spec.x_min_m;
+  mesh.y0 = spec.y_min_m;
+  mesh.z.push_back(0.0);
+  top = 0.0;
+  for (size_t l = 0; l < profile.size() && top < spec.depth_m - 1e-12; ++l) {
+    const bool half_space = (l + 1 == profile.size());
+    const double bottom = half_space ? spec.depth_m : std::min(spec.depth_m, top + profile[l].thickness_m);
+    const double t = bottom - top;
+    const double h = profile[l].material.vs() / ratio;
+    const size_t n = std::max<size_t>(1, static_cast<size_t>(std::ceil(t / h - 1e-9)));
+    const double dz = t / static_cast<double>(n);
+    mesh.materials.push_back(profile[l].material);
+    for (size_t q = 1; q <= n; ++q) {
+      mesh.z.push_back(q == n ? bottom : top + dz * static_cast<double>(q));
+      mesh.level_material.push_back(mesh.materials.size() - 1);
+    }
+    LayerMeshInfo info;
+    info.top_m = top;
+    info.bottom_m = bottom;
+    info.levels = n;
+    info.dz_m = dz;
+    info.material = profile[l].material;
+    info.resolved_hz =
+        profile[l].material.vs() / (spec.elements_per_wavelength * std::max({mesh.hx, mesh.hy, dz}));
+    mesh.layers.push_back(info);
+    top = bottom;
+  }
+  mesh.nz = mesh.level_material.size();
+  return mesh;
+}
+
+StructuredMesh buildUniformMesh(size_t nx, size_t ny, double hx, double hy, const std::vector<double>& z_planes,
+                                const std::vector<Material>& level_materials, double x0, double y0) {
+  if (z_planes.size() != level_materials.size() + 1 || nx == 0 || ny == 0 || level_materials.empty()) {
+    throw std::invalid_argument("buildUniformMesh: inconsistent sizes");
+  }
+  StructuredMesh mesh;
+  mesh.nx = nx;
+  mesh.ny = ny;
+  mesh.nz = level_materials.size();
+  mesh.hx = hx;
+  mesh.hy = hy;
+  mesh.x0 = x0;
+  mesh.y0 = y0;
+  mesh.z = z_planes;
+  for (size_t k = 0; k < level_materials.size(); ++k) {
+    mesh.materials.push_back(level_materials[k]);
+    mesh.level_material.push_back(k);
+    LayerMeshInfo info;
+    info.top_m = z_planes[k];
+    info.bottom_m = z_planes[k + 1];
+    info.levels = 1;
+    info.dz_m = z_planes[k + 1] - z_planes[k];
+    info.material = level_materials[k];
+    mesh.layers.push_back(info);
+  }
+  return mesh;
+}
+
+std::array<double, 576> boxElementStiffness(double hx, double hy, double hz, double lambda, double mu) {
+  std::array<double, 576> k{};
+  const double g = 1.0 / std::sqrt(3.0);
+  const double h[3] = {hx, hy, hz};
+  const double det = hx * hy * hz / 8.0;
+  Eigen::Matrix<double, 6, 6> d = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) d(i, j) = lambda;
+    d(i, i) = lambda + 2.0 * mu;
+    d(i + 3, i + 3) = mu;
+  }
+  for (int gp = 0; gp < 8; ++gp) {
+    const double xi[3] = {(gp & 1) ? g : -g, (gp & 2) ? g : -g, (gp & 4) ? g : -g};
+    Eigen::Matrix<double, 6, 24> b = Eigen::Matrix<double, 6, 24>::Zero();
+    for (int c = 0; c < 8; ++c) {
+      const double s[3] = {(c & 1) ? 1.0 : -1.0, (c & 2) ? 1.0 : -1.0, (c & 4) ? 1.0 : -1.0};
+      double dn[3];
+      for (int a = 0; a < 3; ++a) {
+        double v = s[a] / 8.0 * 2.0 / h[a];
+        for (int o = 0; o < 3; ++o) {
+          if (o != a) v *= (1.0 + s[o] * xi[o]);
+        }
+        dn[a] = v;
+      }
+      // strains: xx, yy, zz, yz, xz, xy (engineering shear)
+      b(0, 3 * c + 0) = dn[0];
+      b(1, 3 * c + 1) = dn[1];
+      b(2, 3 * c + 2) = dn[2];
+      b(3, 3 * c + 1) = dn[2];
+      b(3, 3 * c + 2) = dn[1];
+      b(4, 3 * c + 0) = dn[2];
+      b(4, 3 * c + 2) = dn[0];
+      b(5, 3 * c + 0) = dn[1];
+      b(5, 3 * c + 1) = dn[0];
+    }
+    const Eigen::Matrix<double, 24, 24> ke = b.transpose() * d * b * det;
+    for (int r = 0; r < 24; ++r) {
+      for (int q = 0; q < 24; ++q) k[static_cast<size_t>(r * 24 + q)] += ke(r, q);
+    }
+  }
+  return k;
+}
+
+double boxElementMaxEigenvalue(double hx, double hy, double hz, const Material& m) {
+  const auto k = boxElementStiffness(hx, hy, hz, m.lambda(), m.shearModulus());
+  Eigen::Matrix<double, 24, 24> km;
+  for (int r = 0; r < 24; ++r) {
+    for (int q = 0; q < 24; ++q) km(r, q) = k[static_cast<size_t>(r * 24 + q)];
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 24, 24>> es(km, Eigen::EigenvaluesOnly);
+  const double lumped = m.density_kg_m3 * hx * hy * hz / 8.0;
+  return es.eigenvalues().maxCoeff() / lumped;
+}
+
+}  // namespace railvib::soil

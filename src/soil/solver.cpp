@@ -1,0 +1,413 @@
+#include "railvib/soil/solver.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace railvib::soil {
+
+namespace {
+
+constexpr size_t kChunk = 64;
+
+// One element level k, element rows j in [j_begin, j_end): f -= K_e w, element by element,
+// vectorised over the elements of a row (x). The element outputs go to a small buffer,
+// then are added to the nodes corner by corner (no write conflict inside a loop).
+template <class Real>
+inline __attribute__((always_inline)) void levelKernelBody(const Real* __restrict ke, const Real* const* w,
+                                                           Real* const* f, size_t nx, size_t sx, size_t sxy,
+                                                           size_t k, size_t j_begin, size_t j_end) {
+  alignas(64) Real out[24][kChunk];
+  size_t off[8];
+  for (size_t c = 0; c < 8; ++c) off[c] = (c & 1) + ((c >> 1) & 1) * sx + ((c >> 2) & 1) * sxy;
+  for (size_t j = j_begin; j < j_end; ++j) {
+    const size_t base = j * sx + k * sxy;
+    for (size_t i0 = 0; i0 < nx; i0 += kChunk) {
+      const size_t len = std::min(kChunk, nx - i0);
+      const Real* src[24];
+      for (size_t q = 0; q < 24; ++q) src[q] = w[q % 3] + base + off[q / 3] + i0;
+#pragma omp simd
+      for (size_t ii = 0; ii < len; ++ii) {
+        Real in[24];
+#pragma GCC unroll 24
+        for (size_t q = 0; q < 24; ++q) in[q] = src[q][ii];
+#pragma GCC unroll 24
+        for (size_t r = 0; r < 24; ++r) {
+          Real s = 0;
+#pragma GCC unroll 24
+          for (size_t q = 0; q < 24; ++q) s += ke[r * 24 + q] * in[q];
+          out[r][ii] = s;
+        }
+      }
+      for (size_t r = 0; r < 24; ++r) {
+        Real* __restrict dst = f[r % 3] + base + off[r / 3] + i0;
+        const Real* __restrict o = out[r];
+#pragma omp simd
+        for (size_t ii = 0; ii < len; ++ii) dst[ii] -= o[ii];
+      }
+    }
+  }
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const float* ke, const float* const* w,
+                                                                               float* const* f, size_t nx, size_t sx,
+                                                                               size_t sxy, size_t k, size_t jb,
+                                                                               size_t je) {
+  levelKernelBody<float>(ke, w, f, nx, sx, sxy, k, jb, je);
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const double* ke,
+                                                                               const double* const* w,
+                                                                               double* const* f, size_t nx,
+                                                                               size_t sx, size_t sxy, size_t k,
+                                                                               size_t jb, size_t je) {
+  levelKernelBody<double>(ke, w, f, nx, sx, sxy, k, jb, je);
+}
+
+}  // namespace
+
+size_t solverMemoryBytes(const StructuredMesh& mesh, Precision precision) {
+  const size_t real = precision == Precision::Float ? sizeof(float) : sizeof(double);
+  // u, v, vf, w, f (3 each), va, vb (3 each), mass
+  return mesh.nodeCount() * 22 * real + mesh.nz * 576 * real;
+}
+
+struct Solver::Impl {
+  virtual ~Impl() = default;
+  virtual void init(const StructuredMesh& m, const SolverOptions& o, double dt, const std::vector<double>& mass,
+                    const std::vector<double> c[3]) = 0;
+  virtual void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) = 0;
+  virtual double get(int what, size_t node, int c) const = 0;  // 0 u, 1 v
+  virtual void set(int what, size_t node, int c, double value) = 0;
+  virtual void internalForce(std::vector<double>& out) = 0;
+  virtual double kinetic(const std::vector<double>& mass) const = 0;
+};
+
+namespace {
+
+template <class Real>
+struct ImplT : Solver::Impl {
+  const StructuredMesh* mesh = nullptr;
+  size_t n = 0, sx = 0, sxy = 0;
+  int threads = 1;
+  Real dt = 0, beta = 0, e_filter = 0;
+  std::vector<Real> u[3], v[3], vf[3], w[3], f[3], va[3], vb[3];
+  std::vector<Real> ke;  // nz * 576
+
+  void init(const StructuredMesh& m, const SolverOptions& o, double dt_s, const std::vector<double>& mass,
+            const std::vector<double> c[3]) override {
+    mesh = &m;
+    n = m.nodeCount();
+    sx = m.nx + 1;
+    sxy = (m.nx + 1) * (m.ny + 1);
+    dt = static_cast<Real>(dt_s);
+    beta = static_cast<Real>(o.rayleigh_beta_s);
+    e_filter = static_cast<Real>(std::exp(-2.0 * M_PI * o.damping_cutoff_hz * dt_s));
+    threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    for (int d = 0; d < 3; ++d) {
+      u[d].assign(n, 0);
+      v[d].assign(n, 0);
+      vf[d].assign(n, 0);
+      w[d].assign(n, 0);
+      f[d].assign(n, 0);
+      va[d].resize(n);
+      vb[d].resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        const double a = mass[i] / dt_s;
+        const bool fixed = o.lateral_rollers && d < 2;
+        va[d][i] = fixed ? Real(0) : static_cast<Real>((a - 0.5 * c[d][i]) / (a + 0.5 * c[d][i]));
+        vb[d][i] = fixed ? Real(0) : static_cast<Real>(1.0 / (a + 0.5 * c[d][i]));
+      }
+    }
+    ke.resize(m.nz * 576);
+    for (size_t k = 0; k < m.nz; ++k) {
+      const Material& mat = m.levelMaterial(k);
+      const auto kd = boxElementStiffness(m.hx, m.hy, m.z[k + 1] - m.z[k], mat.lambda(), mat.shearModulus());
+      for (size_t q = 0; q < 576; ++q) ke[k * 576 + q] = static_cast<Real>(kd[q]);
+    }
+  }
+
+  // f -= K in, over all elements, OpenMP over depth slabs (two phases: no write conflicts).
+  void applyK(const Real* const in[3], Real* const out[3]) {
+    const size_t nz = mesh->nz, nx = mesh->nx, ny = mesh->ny;
+    const int t_eff = static_cast<int>(std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(threads), nz / 2)));
+#pragma omp parallel num_threads(t_eff)
+    {
+      const size_t t = static_cast<size_t>(omp_get_thread_num());
+      const size_t nt = static_cast<size_t>(omp_get_num_threads());
+      const size_t k0 = nz * t / nt, k1 = nz * (t + 1) / nt;
+      for (size_t k = k0; k + 1 < k1; ++k) levelKernel(&ke[k * 576], in, out, nx, sx, sxy, k, 0, ny);
+#pragma omp barrier
+      if (k1 > k0) levelKernel(&ke[(k1 - 1) * 576], in, out, nx, sx, sxy, k1 - 1, 0, ny);
+    }
+  }
+
+  void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) override {
+    const Real* in[3] = {w[0].data(), w[1].data(), w[2].data()};
+    Real* out[3] = {f[0].data(), f[1].data(), f[2].data()};
+    applyK(in, out);
+    for (size_t c = 0; c < ch.size(); ++c) {
+      const double val = values[c];
+      if (val == 0.0) continue;
+      for (size_t q = 0; q < ch[c].nodes.size(); ++q) {
+        f[ch[c].components[q]][ch[c].nodes[q]] += static_cast<Real>(ch[c].weights[q] * val);
+      }
+    }
+    const Real one_e = Real(1) - e_filter;
+#pragma omp parallel num_threads(threads)
+    for (int d = 0; d < 3; ++d) {
+      Real* __restrict ud = u[d].data();
+      Real* __restrict vd = v[d].data();
+      Real* __restrict vfd = vf[d].data();
+      Real* __restrict wd = w[d].data();
+      Real* __restrict fd = f[d].data();
+      const Real* __restrict vad = va[d].data();
+      const Real* __restrict vbd = vb[d].data();
+#pragma omp for simd schedule(static)
+      for (size_t i = 0; i < n; ++i) {
+        const Real vn = vad[i] * vd[i] + vbd[i] * fd[i];
+        vd[i] = vn;
+        const Real un = ud[i] + dt * vn;
+        ud[i] = un;
+        const Real fl = e_filter * vfd[i] + one_e * vn;
+        vfd[i] = fl;
+        wd[i] = un + beta * fl;
+        fd[i] = 0;
+      }
+    }
+  }
+
+  double get(int what, size_t node, int c) const override {
+    return static_cast<double>(what == 0 ? u[c][node] : v[c][node]);
+  }
+  void set(int what, size_t node, int c, double value) override {
+    if (what == 0) {
+      u[c][node] = static_cast<Real>(value);
+      w[c][node] = u[c][node] + beta * vf[c][node];
+    } else {
+      v[c][node] = static_cast<Real>(value);
+    }
+  }
+  void internalForce(std::vector<double>& out_f) override {
+    std::vector<Real> tmp[3];
+    for (auto& t : tmp) t.assign(n, 0);
+    const Real* in[3] = {u[0].data(), u[1].data(), u[2].data()};
+    Real* out[3] = {tmp[0].data(), tmp[1].data(), tmp[2].data()};
+    applyK(in, out);
+    out_f.resize(3 * n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int d = 0; d < 3; ++d) out_f[3 * i + static_cast<size_t>(d)] = static_cast<double>(tmp[d][i]);
+    }
+  }
+  double kinetic(const std::vector<double>& mass) const override {
+    double e = 0;
+    for (int d = 0; d < 3; ++d) {
+      for (size_t i = 0; i < n; ++i) e += 0.5 * mass[i] * static_cast<double>(v[d][i]) * static_cast<double>(v[d][i]);
+    }
+    return e;
+  }
+};
+
+}  // namespace
+
+struct SolverExtra {
+  std::vector<double> mass;
+  std::vector<ForceChannel> channels;
+  std::vector<double> values;
+};
+
+static std::vector<double> lumpedMass(const StructuredMesh& m) {
+  std::vector<double> mass(m.nodeCount(), 0.0);
+  for (size_t k = 0; k < m.nz; ++k) {
+    const double me = m.levelMaterial(k).density_kg_m3 * m.hx * m.hy * (m.z[k + 1] - m.z[k]) / 8.0;
+    for (size_t j = 0; j < m.ny; ++j) {
+      for (size_t i = 0; i < m.nx; ++i) {
+        for (size_t c = 0; c < 8; ++c) mass[m.node(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] += me;
+      }
+    }
+  }
+  return mass;
+}
+
+Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::move(mesh)), options_(options) {
+  if (mesh_.nx == 0 || mesh_.ny == 0 || mesh_.nz == 0) throw std::invalid_argument("soil solver: empty mesh");
+  // Stability: Irons' element bound on lambda_max(M^-1 K).
+  double lam = 0.0;
+  for (size_t k = 0; k < mesh_.nz; ++k) {
+    lam = std::max(lam, boxElementMaxEigenvalue(mesh_.hx, mesh_.hy, mesh_.z[k + 1] - mesh_.z[k], mesh_.levelMaterial(k)));
+  }
+  const double omega_max = std::sqrt(lam);
+  dt_undamped_ = 2.0 / omega_max;
+  const double beta = options_.rayleigh_beta_s;
+  const double omega_c = 2.0 * M_PI * options_.damping_cutoff_hz;
+  dt_damped_ = dt_undamped_ / std::sqrt(1.0 + beta * omega_c);
+  const double xi = beta * omega_max / 2.0;
+  dt_naive_ = dt_undamped_ * (std::sqrt(1.0 + xi * xi) - xi);
+  if (options_.dt_s > 0.0) {
+    if (options_.dt_s > dt_damped_) {
+      throw std::invalid_argument("soil solver: dt " + std::to_string(options_.dt_s) + " s above the stability limit " +
+                                  std::to_string(dt_damped_) + " s");
+    }
+    dt_ = options_.dt_s;
+  } else {
+    dt_ = options_.safety_factor * dt_damped_;
+    if (options_.align_rate_hz > 0.0) {
+      const double m = std::ceil(1.0 / (dt_ * options_.align_rate_hz) - 1e-9);
+      dt_ = 1.0 / (m * options_.align_rate_hz);
+    }
+  }
+  extra_ = std::make_unique<SolverExtra>();
+  extra_->mass = lumpedMass(mesh_);
+
+  // Diagonal damping: Lysmer-Kuhlemeyer dashpots on absorbing faces + absorbing layer.
+  std::vector<double> c[3];
+  for (auto& cc : c) cc.assign(mesh_.nodeCount(), 0.0);
+  const StructuredMesh& m = mesh_;
+  auto face = [&](size_t n0, size_t n1, size_t n2, size_t n3, double area, const Material& mat, int normal) {
+    const double cn = mat.density_kg_m3 * mat.vp() * area / 4.0;
+    const double ct = mat.density_kg_m3 * mat.vs() * area / 4.0;
+    for (size_t nd : {n0, n1, n2, n3}) {
+      for (int d = 0; d < 3; ++d) c[d][nd] += (d == normal) ? cn : ct;
+    }
+  };
+  for (size_t k = 0; k < m.nz; ++k) {
+    const double hz = m.z[k + 1] - m.z[k];
+    const Material& mat = m.levelMaterial(k);
+    for (size_t j = 0; j < m.ny; ++j) {
+      if (options_.absorb_x_min) face(m.node(0, j, k), m.node(0, j + 1, k), m.node(0, j, k + 1), m.node(0, j + 1, k + 1), m.hy * hz, mat, 0);
+      if (options_.absorb_x_max)
+        face(m.node(m.nx, j, k), m.node(m.nx, j + 1, k), m.node(m.nx, j, k + 1), m.node(m.nx, j + 1, k + 1), m.hy * hz, mat, 0);
+    }
+    for (size_t i = 0; i < m.nx; ++i) {
+      if (options_.absorb_y_min) face(m.node(i, 0, k), m.node(i + 1, 0, k), m.node(i, 0, k + 1), m.node(i + 1, 0, k + 1), m.hx * hz, mat, 1);
+      if (options_.absorb_y_max)
+        face(m.node(i, m.ny, k), m.node(i + 1, m.ny, k), m.node(i, m.ny, k + 1), m.node(i + 1, m.ny, k + 1), m.hx * hz, mat, 1);
+    }
+  }
+  if (options_.absorb_bottom) {
+    const size_t k = m.nz;
+    const Material& mat = m.levelMaterial(m.nz - 1);
+    for (size_t j = 0; j < m.ny; ++j) {
+      for (size_t i = 0; i < m.nx; ++i) face(m.node(i, j, k), m.node(i + 1, j, k), m.node(i, j + 1, k), m.node(i + 1, j + 1, k), m.hx * m.hy, mat, 2);
+    }
+  }
+  if (options_.absorbing_layer_m > 0.0 && options_.absorbing_layer_alpha_1_s > 0.0) {
+    const double L = options_.absorbing_layer_m;
+    for (size_t k = 0; k <= m.nz; ++k) {
+      for (size_t j = 0; j <= m.ny; ++j) {
+        for (size_t i = 0; i <= m.nx; ++i) {
+          double s = 0.0;
+          auto pen = [&](bool on, double dist) {
+            if (on && dist < L) s = std::max(s, (L - dist) / L);
+          };
+          pen(options_.absorb_x_min, m.x(i) - m.x0);
+          pen(options_.absorb_x_max, m.xMax() - m.x(i));
+          pen(options_.absorb_y_min, m.y(j) - m.y0);
+          pen(options_.absorb_y_max, m.yMax() - m.y(j));
+          pen(options_.absorb_bottom, m.depth() - m.z[k]);
+          if (s > 0.0) {
+            const size_t nd = m.node(i, j, k);
+            const double add = options_.absorbing_layer_alpha_1_s * s * s * extra_->mass[nd];
+            for (int d = 0; d < 3; ++d) c[d][nd] += add;
+          }
+        }
+      }
+    }
+  }
+  if (options_.precision == Precision::Float) {
+    impl_ = std::make_unique<ImplT<float>>();
+  } else {
+    impl_ = std::make_unique<ImplT<double>>();
+  }
+  impl_->init(mesh_, options_, dt_, extra_->mass, c);
+}
+
+Solver::~Solver() = default;
+
+size_t Solver::memoryBytes() const {
+  return solverMemoryBytes(mesh_, options_.precision) + extra_->mass.size() * sizeof(double);
+}
+
+size_t Solver::addForceChannel(ForceChannel channel) {
+  extra_->channels.push_back(std::move(channel));
+  extra_->values.push_back(0.0);
+  return extra_->channels.size() - 1;
+}
+
+void Solver::setChannelValues(const std::vector<double>& values) {
+  if (values.size() != extra_->values.size()) throw std::invalid_argument("soil solver: channel count mismatch");
+  extra_->values = values;
+}
+
+void Solver::step() {
+  const double t0 = omp_get_wtime();
+  impl_->step(extra_->channels, extra_->values);
+  kernel_s_ += omp_get_wtime() - t0;
+  ++steps_;
+}
+
+void Solver::run(uint64_t n) {
+  for (uint64_t s = 0; s < n; ++s) step();
+}
+
+double Solver::displacement(size_t node, int c) const { return impl_->get(0, node, c); }
+double Solver::velocity(size_t node, int c) const { return impl_->get(1, node, c); }
+void Solver::setDisplacement(size_t node, int c, double value) { impl_->set(0, node, c, value); }
+void Solver::setVelocity(size_t node, int c, double value) { impl_->set(1, node, c, value); }
+double Solver::nodalMass(size_t node) const { return extra_->mass[node]; }
+double Solver::kineticEnergy() const { return impl_->kinetic(extra_->mass); }
+void Solver::internalForce(std::vector<double>& f_out) const { impl_->internalForce(f_out); }
+
+namespace {
+struct Trilinear {
+  size_t node[8];
+  double weight[8];
+};
+
+Trilinear locate(const StructuredMesh& m, double x, double y, double d) {
+  auto clampIndex = [](double s, size_t n) {
+    if (s <= 0.0) return std::pair<size_t, double>{0, 0.0};
+    if (s >= static_cast<double>(n)) return std::pair<size_t, double>{n - 1, 1.0};
+    const size_t i = static_cast<size_t>(s);
+    return std::pair<size_t, double>{i, s - static_cast<double>(i)};
+  };
+  const auto [i, fx] = clampIndex((x - m.x0) / m.hx, m.nx);
+  const auto [j, fy] = clampIndex((y - m.y0) / m.hy, m.ny);
+  size_t k = static_cast<size_t>(std::upper_bound(m.z.begin(), m.z.end(), d) - m.z.begin());
+  k = std::min(std::max<size_t>(k, 1), m.nz) - 1;
+  const double fz = std::clamp((d - m.z[k]) / (m.z[k + 1] - m.z[k]), 0.0, 1.0);
+  Trilinear t;
+  for (size_t c = 0; c < 8; ++c) {
+    const size_t a = c & 1, b = (c >> 1) & 1, e = (c >> 2) & 1;
+    t.node[c] = m.node(i + a, j + b, k + e);
+    t.weight[c] = (a ? fx : 1 - fx) * (b ? fy : 1 - fy) * (e ? fz : 1 - fz);
+  }
+  return t;
+}
+}  // namespace
+
+void Solver::velocityAt(double x, double y, double d, double out[3]) const {
+  const Trilinear t = locate(mesh_, x, y, d);
+  for (int c = 0; c < 3; ++c) {
+    out[c] = 0.0;
+    for (size_t q = 0; q < 8; ++q) out[c] += t.weight[q] * impl_->get(1, t.node[q], c);
+  }
+}
+
+void Solver::displacementAt(double x, double y, double d, double out[3]) const {
+  const Trilinear t = locate(mesh_, x, y, d);
+  for (int c = 0; c < 3; ++c) {
+    out[c] = 0.0;
+    for (size_t q = 0; q < 8; ++q) out[c] += t.weight[q] * impl_->get(0, t.node[q], c);
+  }
+}
+
+void Solver::surfaceVelocityD(std::vector<double>& out) const {
+  const size_t ns = (mesh_.nx + 1) * (mesh_.ny + 1);
+  out.resize(ns);
+  for (size_t i = 0; i < ns; ++i) out[i] = impl_->get(1, i, 2);
+}
+
+}  // namespace railvib::soil

@@ -1,0 +1,110 @@
+#include "railvib/track/track_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "railvib/track/track_newmark.hpp"
+
+namespace railvib::track {
+
+std::vector<ReceptancePeak> findPeaks(const std::vector<double>& f, const std::vector<std::complex<double>>& r) {
+  std::vector<ReceptancePeak> peaks;
+  if (f.size() != r.size()) throw std::invalid_argument("findPeaks: size mismatch");
+  for (size_t i = 1; i + 1 < f.size(); ++i) {
+    const double a = std::abs(r[i - 1]), b = std::abs(r[i]), c = std::abs(r[i + 1]);
+    if (!(b > a && b >= c)) continue;
+    // parabola through (f, log|r|) at the three points
+    const double x0 = f[i - 1], x1 = f[i], x2 = f[i + 1];
+    const double y0 = std::log(a), y1 = std::log(b), y2 = std::log(c);
+    const double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1);
+    const double curv = (d12 - d01) / (x2 - x0);
+    ReceptancePeak p{x1, b};
+    if (curv < 0.0) {
+      // y = y1 + d (x - x1) + curv (x - x1)(x - x2)... use vertex of the interpolating parabola
+      const double slope_at_x1 = d01 + curv * (x1 - x0);
+      const double xv = x1 - slope_at_x1 / (2.0 * curv);
+      if (xv > x0 && xv < x2) {
+        p.frequency_hz = xv;
+        p.magnitude_m_n = std::exp(y1 + slope_at_x1 * (xv - x1) + curv * (xv - x1) * (xv - x1));
+      }
+    }
+    peaks.push_back(p);
+  }
+  return peaks;
+}
+
+double pinnedPinnedFrequency(const TrackParams& p) {
+  const double L = p.sleeper_spacing_m;
+  return (M_PI / L) * (M_PI / L) * std::sqrt(p.rail_bending_stiffness_n_m2 / p.rail_mass_per_length_kg_m) /
+         (2.0 * M_PI);
+}
+
+std::complex<double> continuousBeamReceptance(const TrackParams& p, double frequency_hz) {
+  using C = std::complex<double>;
+  const double w = 2.0 * M_PI * frequency_hz, L = p.sleeper_spacing_m;
+  const C sp = C(p.railpad_stiffness_n_m, w * p.railpad_damping_n_s_m) / L;
+  const C sb = C(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m) / L;
+  const double ms = p.sleeper_mass_kg / L;
+  const C stot = sp * (sb - ms * w * w) / (sp + sb - ms * w * w);
+  const double EI = p.rail_bending_stiffness_n_m2;
+  const C k4 = (p.rail_mass_per_length_kg_m * w * w - stot) / EI;
+  // Of the four roots take the one with Re k > 0, Im k <= 0: waves e^{i(wt - kx)}
+  // that travel away from the load and decay (x > 0).
+  const C k0 = std::pow(k4, 0.25);
+  C k = k0;
+  C rot(1.0, 0.0);
+  for (int n = 0; n < 4; ++n, rot *= C(0.0, 1.0)) {
+    const C c = k0 * rot;
+    if (c.real() > 0.0 && c.imag() <= 0.0) k = c;
+  }
+  return -C(1.0, 1.0) / (4.0 * EI * k * k * k);
+}
+
+double winklerBeamStaticDeflection(double EI, double k, double force_n) {
+  const double b = std::pow(k / (4.0 * EI), 0.25);
+  return force_n / (8.0 * EI * b * b * b);
+}
+
+double smearedStaticSupportStiffness(const TrackParams& p) {
+  double flex = 1.0 / p.railpad_stiffness_n_m + 1.0 / p.ballast_stiffness_n_m;
+  if (p.foundation == FoundationModel::Winkler) flex += 1.0 / p.winkler.stiffness_n_m;
+  return 1.0 / flex / p.sleeper_spacing_m;
+}
+
+void simulateMovingLoads(const TrackModel& model, const MovingLoadRun& run,
+                         const std::function<void(double, const std::vector<double>&)>& sink) {
+  if (run.forces_n.size() != run.offsets_behind_m.size()) {
+    throw std::invalid_argument("simulateMovingLoads: one offset per force");
+  }
+  TrackNewmark nm(model, run.dt_s);
+  std::vector<PointLoad> loads(run.forces_n.size());
+  auto place = [&](double t) {
+    const double front = run.front_start_m + run.speed_m_s * t;
+    for (size_t k = 0; k < loads.size(); ++k) {
+      loads[k] = PointLoad{front - run.offsets_behind_m[k], run.forces_n[k]};
+      if (loads[k].x_m < model.railStart() || loads[k].x_m > model.railEnd()) {
+        std::ostringstream s;
+        s << "moving load " << k << " left the rail at t = " << t << " s (x = " << loads[k].x_m << " m, rail ["
+          << model.railStart() << ", " << model.railEnd() << "] m): lengthen track.extent or shorten the run";
+        throw std::out_of_range(s.str());
+      }
+    }
+  };
+  place(0.0);
+  nm.setStaticEquilibrium(loads, 0.0);
+  std::vector<double> ballast;
+  nm.ballastForces(ballast);
+  sink(0.0, ballast);
+  const long steps = static_cast<long>(std::llround(run.duration_s / run.dt_s));
+  for (long n = 1; n <= steps; ++n) {
+    const double t = static_cast<double>(n) * run.dt_s;
+    place(t);
+    nm.step(loads);
+    nm.ballastForces(ballast);
+    sink(t, ballast);
+  }
+}
+
+}  // namespace railvib::track

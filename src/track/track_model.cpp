@@ -1,0 +1,228 @@
+#include "railvib/track/track_model.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace railvib::track {
+
+namespace {
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+void addPair(Triplets& t, Eigen::Index a, Eigen::Index b, double value) {
+  // Two-node spring/dashpot between DOFs a and b (b < 0: to ground).
+  t.emplace_back(a, a, value);
+  if (b >= 0) {
+    t.emplace_back(b, b, value);
+    t.emplace_back(a, b, -value);
+    t.emplace_back(b, a, -value);
+  }
+}
+}  // namespace
+
+TrackModel::TrackModel(const TrackParams& params) : params_(params) { build(); }
+
+void TrackModel::build() {
+  const TrackParams& p = params_;
+  const double L = p.sleeper_spacing_m;
+  const int ne = p.elements_per_bay;
+  const long k_first = static_cast<long>(std::ceil((p.x_min_m - p.sleeper_offset_m) / L - 1e-9));
+  const long k_last = static_cast<long>(std::floor((p.x_max_m - p.sleeper_offset_m) / L + 1e-9));
+  const long n_s = k_last - k_first + 1;
+  if (n_s < 2) throw std::invalid_argument("track: fewer than 2 sleepers in the extent");
+  sleeper_x_.resize(n_s);
+  for (long i = 0; i < n_s; ++i) sleeper_x_[i] = p.sleeper_offset_m + static_cast<double>(k_first + i) * L;
+  const long n_nodes = (n_s - 1) * ne + 1;
+  element_length_ = L / ne;
+  node_x_.resize(n_nodes);
+  for (long j = 0; j < n_nodes; ++j) node_x_[j] = sleeper_x_[0] + static_cast<double>(j) * element_length_;
+  node_x_.back() = sleeper_x_.back();
+
+  // DOF numbering node by node (banded): w, theta [, sleeper, base].
+  rail_dof_.assign(n_nodes, -1);
+  sleeper_dof_.assign(n_s, -1);
+  base_dof_.assign(n_s, -1);
+  Eigen::Index idx = 0;
+  for (long j = 0; j < n_nodes; ++j) {
+    rail_dof_[j] = idx;
+    idx += 2;
+    if (j % ne == 0) {
+      const long i = j / ne;
+      sleeper_dof_[i] = idx++;
+      if (p.foundation != FoundationModel::Rigid) base_dof_[i] = idx++;
+    }
+  }
+  n_dof_ = idx;
+
+  // End damping layers: eta(x) = eta_max * (depth / L_abs)^2.
+  const double labs = p.ends.absorbing_length_m;
+  const double x0 = node_x_.front(), x1 = node_x_.back();
+  auto eta = [&](double x) {
+    if (labs <= 0.0 || p.ends.max_damping_rate_1_s <= 0.0) return 0.0;
+    const double depth = std::max({0.0, (x0 + labs) - x, x - (x1 - labs)});
+    const double r = std::min(1.0, depth / labs);
+    return p.ends.max_damping_rate_1_s * r * r;
+  };
+
+  Triplets tm, tc, tk;
+  const double h = element_length_;
+  const double EI = p.rail_bending_stiffness_n_m2;
+  const double m = p.rail_mass_per_length_kg_m;
+  const double ke[4][4] = {{12, 6 * h, -12, 6 * h},
+                           {6 * h, 4 * h * h, -6 * h, 2 * h * h},
+                           {-12, -6 * h, 12, -6 * h},
+                           {6 * h, 2 * h * h, -6 * h, 4 * h * h}};
+  const double me[4][4] = {{156, 22 * h, 54, -13 * h},
+                           {22 * h, 4 * h * h, 13 * h, -3 * h * h},
+                           {54, 13 * h, 156, -22 * h},
+                           {-13 * h, -3 * h * h, -22 * h, 4 * h * h}};
+  const double kf = EI / (h * h * h);
+  const double mf = m * h / 420.0;
+  for (long e = 0; e + 1 < n_nodes; ++e) {
+    const Eigen::Index d[4] = {rail_dof_[e], rail_dof_[e] + 1, rail_dof_[e + 1], rail_dof_[e + 1] + 1};
+    const double eta_e = eta(0.5 * (node_x_[e] + node_x_[e + 1]));
+    for (int a = 0; a < 4; ++a) {
+      for (int b = 0; b < 4; ++b) {
+        tk.emplace_back(d[a], d[b], kf * ke[a][b]);
+        tm.emplace_back(d[a], d[b], mf * me[a][b]);
+        if (eta_e > 0.0) tc.emplace_back(d[a], d[b], eta_e * mf * me[a][b]);
+      }
+    }
+  }
+  for (long i = 0; i < n_s; ++i) {
+    const Eigen::Index w = rail_dof_[i * ne];
+    const Eigen::Index s = sleeper_dof_[i];
+    const Eigen::Index b = base_dof_[i];
+    const double eta_s = eta(sleeper_x_[i]);
+    // railpad rail -> sleeper
+    addPair(tk, w, s, p.railpad_stiffness_n_m);
+    if (p.railpad_damping_n_s_m > 0.0) addPair(tc, w, s, p.railpad_damping_n_s_m);
+    // sleeper mass
+    tm.emplace_back(s, s, p.sleeper_mass_kg);
+    if (eta_s > 0.0) tc.emplace_back(s, s, eta_s * p.sleeper_mass_kg);
+    // ballast sleeper -> base (or ground)
+    addPair(tk, s, b, p.ballast_stiffness_n_m);
+    if (p.ballast_damping_n_s_m > 0.0) addPair(tc, s, b, p.ballast_damping_n_s_m);
+    if (p.foundation == FoundationModel::Clm) {
+      tm.emplace_back(b, b, p.clm.mass_kg);
+      if (eta_s > 0.0) tc.emplace_back(b, b, eta_s * p.clm.mass_kg);
+      tk.emplace_back(b, b, p.clm.stiffness_n_m);
+      tc.emplace_back(b, b, p.clm.damping_n_s_m);
+      if (i + 1 < n_s) {
+        addPair(tk, b, base_dof_[i + 1], p.clm.coupling_stiffness_n_m);
+        addPair(tc, b, base_dof_[i + 1], p.clm.coupling_damping_n_s_m);
+      }
+    } else if (p.foundation == FoundationModel::Winkler) {
+      // massless series node: Winkler spring and damper to ground
+      tk.emplace_back(b, b, p.winkler.stiffness_n_m);
+      tc.emplace_back(b, b, p.winkler.damping_n_s_m);
+    }
+  }
+  M_.resize(n_dof_, n_dof_);
+  C_.resize(n_dof_, n_dof_);
+  K_.resize(n_dof_, n_dof_);
+  M_.setFromTriplets(tm.begin(), tm.end());
+  C_.setFromTriplets(tc.begin(), tc.end());
+  K_.setFromTriplets(tk.begin(), tk.end());
+  M_.makeCompressed();
+  C_.makeCompressed();
+  K_.makeCompressed();
+}
+
+RailPoint TrackModel::railPoint(double x_m) const {
+  const double x0 = node_x_.front(), x1 = node_x_.back();
+  const double tol = 1e-9 * std::max(1.0, std::abs(x1 - x0));
+  if (!(x_m >= x0 - tol && x_m <= x1 + tol)) {
+    std::ostringstream s;
+    s << "track: position " << x_m << " m is outside the rail [" << x0 << ", " << x1 << "] m";
+    throw std::out_of_range(s.str());
+  }
+  const double h = element_length_;
+  long e = static_cast<long>(std::floor((x_m - x0) / h));
+  e = std::clamp(e, 0L, static_cast<long>(node_x_.size()) - 2);
+  const double xi = std::clamp((x_m - node_x_[e]) / h, 0.0, 1.0);
+  const double xi2 = xi * xi, xi3 = xi2 * xi;
+  RailPoint p;
+  p.x_m = x_m;
+  p.dofs = {rail_dof_[e], rail_dof_[e] + 1, rail_dof_[e + 1], rail_dof_[e + 1] + 1};
+  p.weights = {1.0 - 3.0 * xi2 + 2.0 * xi3, h * (xi - 2.0 * xi2 + xi3), 3.0 * xi2 - 2.0 * xi3, h * (xi3 - xi2)};
+  p.slope_weights = {(6.0 * xi2 - 6.0 * xi) / h, 1.0 - 4.0 * xi + 3.0 * xi2, (6.0 * xi - 6.0 * xi2) / h,
+                     3.0 * xi2 - 2.0 * xi};
+  return p;
+}
+
+Eigen::VectorXd TrackModel::loadVector(const std::vector<PointLoad>& loads) const {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(n_dof_);
+  for (const auto& l : loads) railPoint(l.x_m).addLoad(l.force_n, f);
+  return f;
+}
+
+void TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+                                          std::vector<double>& out) const {
+  const size_t n = sleeper_x_.size();
+  out.resize(n);
+  const double kb = params_.ballast_stiffness_n_m, db = params_.ballast_damping_n_s_m;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Index s = sleeper_dof_[i], b = base_dof_[i];
+    const double du = u[s] - (b >= 0 ? u[b] : 0.0);
+    const double dv = v[s] - (b >= 0 ? v[b] : 0.0);
+    out[i] = kb * du + db * dv;
+  }
+}
+
+std::vector<double> TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
+  std::vector<double> out;
+  ballastForceOnFoundation(u, v, out);
+  return out;
+}
+
+Eigen::VectorXd TrackModel::staticDeflection(const std::vector<PointLoad>& loads) const {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(K_);
+  if (ldlt.info() != Eigen::Success) throw std::runtime_error("track: stiffness matrix factorisation failed");
+  return ldlt.solve(loadVector(loads));
+}
+
+std::complex<double> TrackModel::receptance(double x_m, double frequency_hz) const {
+  return receptance(x_m, std::vector<double>{frequency_hz}).front();
+}
+
+std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::vector<double>& frequencies_hz) const {
+  using Cplx = std::complex<double>;
+  const RailPoint rp = railPoint(x_m);
+  Eigen::VectorXcd r = Eigen::VectorXcd::Zero(n_dof_);
+  for (int k = 0; k < 4; ++k) r[rp.dofs[k]] += rp.weights[k];
+  const Eigen::SparseMatrix<Cplx> Kc = K_.cast<Cplx>(), Mc = M_.cast<Cplx>(), Cc = C_.cast<Cplx>();
+  Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
+  std::vector<Cplx> out;
+  out.reserve(frequencies_hz.size());
+  bool analysed = false;
+  for (double f : frequencies_hz) {
+    const double w = 2.0 * M_PI * f;
+    Eigen::SparseMatrix<Cplx> A = Kc - (w * w) * Mc + Cplx(0.0, w) * Cc;
+    A.makeCompressed();
+    if (!analysed) {
+      lu.analyzePattern(A);
+      analysed = true;
+    }
+    lu.factorize(A);
+    if (lu.info() != Eigen::Success) throw std::runtime_error("track: receptance factorisation failed");
+    const Eigen::VectorXcd x = lu.solve(r);
+    out.push_back(r.transpose() * x);
+  }
+  return out;
+}
+
+double TrackModel::strainEnergy(const Eigen::VectorXd& u) const { return 0.5 * u.dot(K_ * u); }
+double TrackModel::kineticEnergy(const Eigen::VectorXd& v) const { return 0.5 * v.dot(M_ * v); }
+
+bool TrackModel::dampingIsPositiveSemiDefinite() const {
+  // Every damper is PSD except the CLM coupling chain d_f I + d_c Lap, whose
+  // eigenvalues lie in [d_f + 4 min(d_c,0), ...]; ballast dampers only add.
+  if (params_.foundation != FoundationModel::Clm) return true;
+  return params_.clm.damping_n_s_m + 4.0 * std::min(0.0, params_.clm.coupling_damping_n_s_m) >= 0.0;
+}
+
+}  // namespace railvib::track

@@ -1,0 +1,103 @@
+#include <cmath>
+#include <sstream>
+
+#include "railvib/track/track_model.hpp"
+
+namespace railvib::track {
+
+std::string foundationName(FoundationModel model) {
+  switch (model) {
+    case FoundationModel::Clm:
+      return "clm";
+    case FoundationModel::Winkler:
+      return "winkler";
+    case FoundationModel::Rigid:
+      return "rigid";
+  }
+  return "?";
+}
+
+TrackParams loadTrackParams(const ConfigNode& track) {
+  TrackParams p;
+  const ConfigNode rail = track.section("rail");
+  p.rail_bending_stiffness_n_m2 = rail.number("bending_stiffness_n_m2", Range::open(1.0e3, 1.0e9));
+  p.rail_mass_per_length_kg_m = rail.number("mass_per_length_kg_m", Range::open(1.0, 1000.0));
+  p.elements_per_bay = static_cast<int>(rail.integer("elements_per_bay", 1, 64));
+
+  const ConfigNode sleeper = track.section("sleeper");
+  p.sleeper_spacing_m = sleeper.number("spacing_m", Range{0.0, 5.0, true, false});
+  p.sleeper_mass_kg = sleeper.number("mass_kg", Range::open(0.0, 1.0e4));
+  p.sleeper_offset_m = sleeper.number("offset_m", Range::any(), 0.0);
+
+  const ConfigNode pad = track.section("railpad");
+  p.railpad_stiffness_n_m = pad.number("stiffness_n_m", Range::open(0.0, 1.0e12));
+  p.railpad_damping_n_s_m = pad.number("damping_n_s_m", Range{0.0, 1.0e9, false, true});
+  const ConfigNode ballast = track.section("ballast");
+  p.ballast_stiffness_n_m = ballast.number("stiffness_n_m", Range::open(0.0, 1.0e12));
+  p.ballast_damping_n_s_m = ballast.number("damping_n_s_m", Range{0.0, 1.0e9, false, true});
+
+  const ConfigNode foundation = track.section("foundation");
+  const std::string model = foundation.choice("model", {"clm", "winkler", "rigid"});
+  if (model == "clm") {
+    p.foundation = FoundationModel::Clm;
+    const ConfigNode clm = foundation.section("clm");
+    p.clm.mass_kg = clm.number("mass_kg", Range::open(0.0, 1.0e7));
+    p.clm.stiffness_n_m = clm.number("stiffness_n_m", Range::open(0.0, 1.0e12));
+    p.clm.damping_n_s_m = clm.number("damping_n_s_m", Range{0.0, 1.0e10, false, true});
+    p.clm.coupling_stiffness_n_m = clm.number("coupling_stiffness_n_m", Range{0.0, 1.0e12, false, true});
+    // Negative on purpose (propagation delay [paper]); bounded so that the
+    // foundation damping matrix stays positive semi-definite: d_f + 4 d_c >= 0
+    // is the exact bound for the chain d_f I + d_c * Laplacian.
+    p.clm.coupling_damping_n_s_m = clm.number("coupling_damping_n_s_m", Range::open(-1.0e10, 1.0e10));
+    if (p.clm.damping_n_s_m + 4.0 * std::min(0.0, p.clm.coupling_damping_n_s_m) < 0.0) {
+      std::ostringstream why;
+      why << "negative coupling damping too large: d_f + 4 d_c must be >= 0 (d_f = " << p.clm.damping_n_s_m
+          << "), otherwise the foundation chain is active (energy-producing)";
+      clm.fail("coupling_damping_n_s_m", why.str());
+    }
+  } else if (model == "winkler") {
+    p.foundation = FoundationModel::Winkler;
+    const ConfigNode w = foundation.section("winkler");
+    const double ratio = w.number("ballast_to_foundation_stiffness_ratio", Range::open(0.0, 1.0e3));
+    p.winkler.stiffness_n_m = p.ballast_stiffness_n_m / ratio;
+    p.winkler.damping_n_s_m = w.number("damping_n_s_m", Range{0.0, 1.0e10, false, true});
+  } else {
+    p.foundation = FoundationModel::Rigid;
+  }
+
+  const ConfigNode extent = track.section("extent");
+  p.x_min_m = extent.number("x_min_m", Range::open(-1.0e5, 1.0e5));
+  p.x_max_m = extent.number("x_max_m", Range::open(-1.0e5, 1.0e5));
+  if (!(p.x_max_m > p.x_min_m)) extent.fail("x_max_m", "must be greater than x_min_m");
+
+  if (track.has("ends")) {
+    const ConfigNode ends = track.section("ends");
+    p.ends.absorbing_length_m = ends.number("absorbing_length_m", Range{0.0, 1.0e4, false, true});
+    p.ends.max_damping_rate_1_s = ends.number("max_damping_rate_1_s", Range{0.0, 1.0e6, false, true});
+  } else {
+    track.fail("ends", "required section is missing (absorbing_length_m, max_damping_rate_1_s)");
+  }
+
+  // Consistency: number of sleepers and room for the end layers.
+  const double L = p.sleeper_spacing_m;
+  const double k_first = std::ceil((p.x_min_m - p.sleeper_offset_m) / L - 1e-9);
+  const double k_last = std::floor((p.x_max_m - p.sleeper_offset_m) / L + 1e-9);
+  const double count = k_last - k_first + 1.0;
+  if (count < TrackParams::kMinSleepers) {
+    std::ostringstream why;
+    why << "the extent [" << p.x_min_m << ", " << p.x_max_m << "] m holds " << std::max(0.0, count)
+        << " sleepers at spacing " << L << " m; at least " << TrackParams::kMinSleepers << " are needed";
+    extent.fail("x_max_m", why.str());
+  }
+  if (count > 200000) extent.fail("x_max_m", "track too long (more than 200000 sleepers)");
+  if (2.0 * p.ends.absorbing_length_m >= 0.8 * (p.x_max_m - p.x_min_m)) {
+    track.section("ends").fail("absorbing_length_m",
+                               "the two end layers would cover more than 80 % of the track extent");
+  }
+
+  const ConfigNode output = track.section("output");
+  p.load_sample_rate_hz = output.number("load_sample_rate_hz", Range::open(0.0, 1.0e7));
+  return p;
+}
+
+}  // namespace railvib::track
