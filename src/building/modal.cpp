@@ -148,6 +148,22 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
   return os.str();
 }
 
+std::vector<double> lowestFrequencies(const Eigen::SparseMatrix<double>& k, const Eigen::VectorXd& m, int count,
+                                      double sigma) {
+  ShiftInvertOp op(k, m, sigma);
+  int massive = 0;
+  for (int i = 0; i < m.size(); ++i) massive += m[i] > 0.0 ? 1 : 0;
+  const int nev = std::min(count, massive - 2);
+  Spectra::SymEigsSolver<ShiftInvertOp> solver(op, nev, std::min(massive, std::max(2 * nev + 1, nev + 20)));
+  solver.init();
+  solver.compute(Spectra::SortRule::LargestAlge, 2000, 1e-10, Spectra::SortRule::LargestAlge);
+  if (solver.info() != Spectra::CompInfo::Successful) throw std::runtime_error("eigen solver did not converge");
+  std::vector<double> f;
+  for (int j = 0; j < solver.eigenvalues().size(); ++j)
+    f.push_back(std::sqrt(std::max(sigma + 1.0 / solver.eigenvalues()[j], 0.0)) / kTwoPi);
+  return f;
+}
+
 ModalResult modalAnalysis(const BuildingModel& model, const ModalOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   const int ndof = model.dofCount();

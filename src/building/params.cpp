@@ -91,13 +91,13 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
   }
   if (b.has("damping")) {
     const ConfigNode d = b.section("damping");
-    p.damping_ratio = d.number("ratio", Range(0.0, 0.5, false, true), p.damping_ratio);
+    p.damping_ratio = d.number("ratio", Range{0.0, 0.5, false, true}, p.damping_ratio);
     p.damping_f1_hz = d.number("f1_hz", Range::positive(), p.damping_f1_hz);
     p.damping_f2_hz = d.number("f2_hz", Range::positive(), p.damping_f2_hz);
     if (p.damping_f2_hz <= p.damping_f1_hz) d.fail("f2_hz", "must be larger than f1_hz");
   }
   if (b.has("solver")) {
-    p.max_time_step_s = b.section("solver").number("max_time_step_s", Range(0.0, 0.01, true, false),
+    p.max_time_step_s = b.section("solver").number("max_time_step_s", Range{0.0, 0.01, true, false},
                                                    p.max_time_step_s);
   }
   if (b.has("footprint")) {

@@ -29,6 +29,30 @@ double kaiser(double u, double beta) {
 
 // ------------------------------------------------------------------ Decimator
 
+namespace {
+// Kaiser half width (s) for a transition of df Hz and attenuation a dB:
+// N - 1 = (A - 7.95) / (2.285 * 2 pi df / fs)  =>  T = (A - 7.95) / (2 * 2.285 * 2 pi df).
+double kaiserHalfWidth(double a, double df) { return (a - 7.95) / (2.0 * 2.285 * 2.0 * kPi * df); }
+
+// Centred low-pass taps at rate fs, pass band edge fp, stop band edge fstop.
+std::vector<double> designTaps(double fs, double fp, double fstop, double a, int64_t* half_out) {
+  const double fc = 0.5 * (fp + fstop);
+  const double beta = kaiserBeta(a);
+  const int64_t d = static_cast<int64_t>(std::ceil(kaiserHalfWidth(a, fstop - fp) * fs));
+  std::vector<double> taps(static_cast<size_t>(2 * d + 1));
+  double sum = 0.0;
+  for (int64_t j = -d; j <= d; ++j) {
+    const double tau = static_cast<double>(j) / fs;
+    const double h = 2.0 * fc * sinc(2.0 * fc * tau) * kaiser(static_cast<double>(j) / (static_cast<double>(d) + 1.0), beta);
+    taps[static_cast<size_t>(j + d)] = h;
+    sum += h;
+  }
+  for (double& h : taps) h /= sum;
+  *half_out = d;
+  return taps;
+}
+}  // namespace
+
 Decimator::Decimator(const DecimatorSpec& spec, size_t channels, double t0_s)
     : spec_(spec), channels_(channels), t0_(t0_s) {
   if (!(spec.input_rate_hz > 0.0) || !(spec.output_rate_hz > 0.0) || !std::isfinite(spec.input_rate_hz) ||
@@ -53,48 +77,82 @@ Decimator::Decimator(const DecimatorSpec& spec, size_t channels, double t0_s)
   const double r = fi / fo;
   const double rr = std::round(r);
   if (std::abs(r - rr) < 1e-9 * r) ratio_ = static_cast<int>(rr);
+  const double fp = spec.passband_fraction * fo;
+  const double a = spec.stopband_db;
 
   if (ratio_ == 1) {
-    taps_ = {1.0};
-    latency_in_ = 0;
-    half_width_s_ = 0.0;
-  } else {
-    const double fp = spec.passband_fraction * fo;
-    const double fs = 0.5 * fo;
-    const double df = fs - fp;
-    cutoff_hz_ = 0.5 * (fp + fs);
-    const double a = spec.stopband_db;
-    beta_ = kaiserBeta(a);
-    // Kaiser's length estimate: N - 1 = (A - 7.95) / (2.285 * 2 pi df / fi),
-    // i.e. a half width in seconds T = (A - 7.95) / (2 * 2.285 * 2 pi * df).
-    const double half_width = (a - 7.95) / (2.0 * 2.285 * 2.0 * kPi * df);
-    if (ratio_ > 0) {
-      latency_in_ = static_cast<size_t>(std::ceil(half_width * fi));
-      half_width_s_ = static_cast<double>(latency_in_) / fi;
-      const int64_t d = static_cast<int64_t>(latency_in_);
-      taps_.resize(2 * latency_in_ + 1);
-      double sum = 0.0;
-      for (int64_t j = -d; j <= d; ++j) {
-        const double tau = static_cast<double>(j) / fi;
-        const double h = 2.0 * cutoff_hz_ * sinc(2.0 * cutoff_hz_ * tau) * kaiser(tau / (half_width_s_ + 0.5 / fi), beta_);
-        taps_[static_cast<size_t>(j + d)] = h;
-        sum += h;
+    FirStage st;
+    st.taps = {1.0};
+    stages_.push_back(st);
+  } else if (ratio_ > 1) {
+    // Choose one stage or a split M = M1 * M2 by the multiplications per input second.
+    const double t2 = kaiserHalfWidth(a, 0.5 * fo - fp);
+    double best_cost = (2.0 * std::ceil(t2 * fi) + 1.0) * fo;
+    int best_m1 = 1;
+    for (int m1 = 2; m1 < ratio_; ++m1) {
+      if (ratio_ % m1 != 0) continue;
+      const double f1 = fi / m1;  // stage-1 output rate
+      const double stop1 = f1 - 0.5 * fo;  // what folds into [0, fo/2] must go
+      if (!(stop1 > fp)) continue;
+      const double cost = (2.0 * std::ceil(kaiserHalfWidth(a, stop1 - fp) * fi) + 1.0) * f1 +
+                          (2.0 * std::ceil(t2 * f1) + 1.0) * fo;
+      if (cost < 0.8 * best_cost) {
+        best_cost = cost;
+        best_m1 = m1;
       }
-      for (double& h : taps_) h /= sum;
+    }
+    if (best_m1 == 1) {
+      FirStage st;
+      st.ratio = ratio_;
+      st.taps = designTaps(fi, fp, 0.5 * fo, a, &st.half);
+      stages_.push_back(st);
     } else {
-      half_width_s_ = half_width;
-      latency_in_ = static_cast<size_t>(std::ceil(half_width * fi));
-      // Tabulate the kernel on [0, T] with 512 points per output period.
-      table_step_s_ = 1.0 / (512.0 * fo);
-      const size_t n = static_cast<size_t>(std::ceil(half_width_s_ / table_step_s_)) + 2;
-      table_.resize(n);
-      for (size_t i = 0; i < n; ++i) {
-        const double tau = static_cast<double>(i) * table_step_s_;
-        table_[i] = 2.0 * cutoff_hz_ * sinc(2.0 * cutoff_hz_ * tau) * kaiser(tau / half_width_s_, beta_);
+      // Two stages: their pass-band ripples add, so each is designed 6 dB deeper.
+      FirStage s1, s2;
+      s1.ratio = best_m1;
+      s1.taps = designTaps(fi, fp, fi / best_m1 - 0.5 * fo, a + 6.0, &s1.half);
+      s2.ratio = ratio_ / best_m1;
+      s2.taps = designTaps(fi / best_m1, fp, 0.5 * fo, a + 6.0, &s2.half);
+      stages_.push_back(s1);
+      stages_.push_back(s2);
+    }
+    // Equivalent FIR at the input rate: h1 * (h2 up-sampled by M1), and the latency.
+    taps_ = {1.0};
+    int64_t up = 1;
+    int64_t latency = 0;
+    for (const FirStage& st : stages_) {
+      std::vector<double> h(taps_.size() + static_cast<size_t>(up) * (st.taps.size() - 1), 0.0);
+      for (size_t i = 0; i < taps_.size(); ++i) {
+        for (size_t j = 0; j < st.taps.size(); ++j) h[i + static_cast<size_t>(up) * j] += taps_[i] * st.taps[j];
       }
+      taps_.swap(h);
+      latency += st.half * up;
+      up *= st.ratio;
+    }
+    latency_in_ = static_cast<size_t>(latency);
+    half_width_s_ = static_cast<double>(latency) / fi;
+  } else {
+    const double fs = 0.5 * fo;
+    cutoff_hz_ = 0.5 * (fp + fs);
+    beta_ = kaiserBeta(a);
+    half_width_s_ = kaiserHalfWidth(a, fs - fp);
+    latency_in_ = static_cast<size_t>(std::ceil(half_width_s_ * fi));
+    // Tabulate the kernel on [0, T] with 512 points per output period.
+    table_step_s_ = 1.0 / (512.0 * fo);
+    const size_t n = static_cast<size_t>(std::ceil(half_width_s_ / table_step_s_)) + 2;
+    table_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const double tau = static_cast<double>(i) * table_step_s_;
+      table_[i] = 2.0 * cutoff_hz_ * sinc(2.0 * cutoff_hz_ * tau) * kaiser(tau / half_width_s_, beta_);
     }
   }
   reset(t0_s);
+}
+
+std::vector<int> Decimator::stageRatios() const {
+  std::vector<int> r;
+  for (const FirStage& st : stages_) r.push_back(st.ratio);
+  return r;
 }
 
 void Decimator::reset(double t0_s) {
@@ -103,6 +161,13 @@ void Decimator::reset(double t0_s) {
   buf_first_ = 0;
   first_.assign(channels_, 0.0);
   last_.assign(channels_, 0.0);
+  for (FirStage& st : stages_) {
+    st.buf.clear();
+    st.buf_first = 0;
+    st.n_in = st.n_out = 0;
+    st.first.assign(channels_, 0.0);
+    st.last.assign(channels_, 0.0);
+  }
   n_in_ = 0;
   n_out_ = 0;
   flushed_ = false;
@@ -122,83 +187,132 @@ double Decimator::inputAt(int64_t n, size_t c) const {
   return buf_[static_cast<size_t>(n - buf_first_) * channels_ + c];
 }
 
+void Decimator::runStage(FirStage& st, const double* x, size_t frames, bool flushing, std::vector<double>& out) const {
+  const size_t nc = channels_;
+  if (frames > 0) {
+    if (st.n_in == 0) st.first.assign(x, x + nc);
+    st.buf.insert(st.buf.end(), x, x + frames * nc);
+    st.n_in += frames;
+    st.last.assign(x + (frames - 1) * nc, x + frames * nc);
+  }
+  if (st.n_in == 0) return;
+  const int64_t last_in = static_cast<int64_t>(st.n_in) - 1;
+  const int64_t d = st.half;
+  const size_t ntaps = st.taps.size();
+  auto at = [&](int64_t n, size_t c) {
+    if (n < 0) return st.first[c];
+    if (n > last_in) return st.last[c];
+    return st.buf[static_cast<size_t>(n - st.buf_first) * nc + c];
+  };
+  for (;;) {
+    const int64_t centre = static_cast<int64_t>(st.n_out) * st.ratio;
+    if (flushing ? centre > last_in : centre + d > last_in) break;
+    const int64_t n0 = centre - d;
+    const size_t base = out.size();
+    out.resize(base + nc, 0.0);
+    double* o = out.data() + base;
+    if (n0 >= st.buf_first && n0 + static_cast<int64_t>(ntaps) - 1 <= last_in) {
+      const double* xs = st.buf.data() + static_cast<size_t>(n0 - st.buf_first) * nc;
+      if (nc == 1) {
+        double s = 0.0;
+        for (size_t j = 0; j < ntaps; ++j) s += st.taps[j] * xs[j];
+        o[0] = s;
+      } else {
+        for (size_t j = 0; j < ntaps; ++j) {
+          const double h = st.taps[j];
+          const double* xj = xs + j * nc;
+          for (size_t c = 0; c < nc; ++c) o[c] += h * xj[c];
+        }
+      }
+    } else {
+      for (size_t j = 0; j < ntaps; ++j) {
+        for (size_t c = 0; c < nc; ++c) o[c] += st.taps[j] * at(n0 + static_cast<int64_t>(j), c);
+      }
+    }
+    ++st.n_out;
+  }
+  // Drop frames no longer needed (amortised: only when at least half the buffer is stale).
+  const int64_t keep_from = std::min<int64_t>(static_cast<int64_t>(st.n_out) * st.ratio - d, last_in);
+  const int64_t drop = keep_from - st.buf_first;
+  if (drop > 0 && 2 * drop >= static_cast<int64_t>(st.buf.size() / nc)) {
+    st.buf.erase(st.buf.begin(), st.buf.begin() + drop * static_cast<int64_t>(nc));
+    st.buf_first += drop;
+  }
+}
+
 size_t Decimator::push(const double* interleaved, size_t frames, std::vector<double>& out) {
   if (flushed_) throw std::logic_error("Decimator::push after flush()");
   if (frames == 0) return 0;
-  if (n_in_ == 0) first_.assign(interleaved, interleaved + channels_);
-  buf_.insert(buf_.end(), interleaved, interleaved + frames * channels_);
   n_in_ += frames;
-  last_.assign(interleaved + (frames - 1) * channels_, interleaved + frames * channels_);
   const size_t before = out.size();
-  emitReady(out, false);
-  return (out.size() - before) / channels_;
+  if (!stages_.empty()) {
+    if (stages_.size() == 1) {
+      runStage(stages_[0], interleaved, frames, false, out);
+    } else {
+      stage_tmp_.clear();
+      runStage(stages_[0], interleaved, frames, false, stage_tmp_);
+      runStage(stages_[1], stage_tmp_.data(), stage_tmp_.size() / channels_, false, out);
+    }
+  } else {
+    if (n_in_ == frames) first_.assign(interleaved, interleaved + channels_);
+    buf_.insert(buf_.end(), interleaved, interleaved + frames * channels_);
+    last_.assign(interleaved + (frames - 1) * channels_, interleaved + frames * channels_);
+    emitReady(out, false);
+  }
+  const size_t added = (out.size() - before) / channels_;
+  n_out_ += added;
+  return added;
 }
 
 size_t Decimator::flush(std::vector<double>& out) {
   if (flushed_) return 0;
-  const size_t before = out.size();
-  if (n_in_ > 0) emitReady(out, true);
   flushed_ = true;
-  return (out.size() - before) / channels_;
+  if (n_in_ == 0) return 0;
+  const size_t before = out.size();
+  if (!stages_.empty()) {
+    if (stages_.size() == 1) {
+      runStage(stages_[0], nullptr, 0, true, out);
+    } else {
+      stage_tmp_.clear();
+      runStage(stages_[0], nullptr, 0, true, stage_tmp_);
+      runStage(stages_[1], stage_tmp_.data(), stage_tmp_.size() / channels_, true, out);
+    }
+  } else {
+    emitReady(out, true);
+  }
+  const size_t added = (out.size() - before) / channels_;
+  n_out_ += added;
+  return added;
 }
 
+// Non-integer ratio: kernel evaluated at the fractional offsets of each output time.
 void Decimator::emitReady(std::vector<double>& out, bool flushing) {
   const int64_t last_in = static_cast<int64_t>(n_in_) - 1;
   const double fi = spec_.input_rate_hz;
   const double r = fi / spec_.output_rate_hz;
   const size_t nc = channels_;
-  int64_t keep_from = buf_first_;
-  if (ratio_ > 0) {
-    const int64_t d = static_cast<int64_t>(latency_in_);
-    const size_t ntaps = taps_.size();
-    for (;;) {
-      const int64_t centre = static_cast<int64_t>(n_out_) * ratio_;
-      if (flushing ? centre > last_in : centre + d > last_in) break;
-      const int64_t n0 = centre - d;
-      const size_t base = out.size();
-      out.resize(base + nc, 0.0);
-      if (n0 >= buf_first_ && n0 + static_cast<int64_t>(ntaps) - 1 <= last_in) {
-        const double* x = buf_.data() + static_cast<size_t>(n0 - buf_first_) * nc;
-        for (size_t c = 0; c < nc; ++c) {
-          double s = 0.0;
-          for (size_t j = 0; j < ntaps; ++j) s += taps_[j] * x[j * nc + c];
-          out[base + c] = s;
-        }
-      } else {
-        for (size_t c = 0; c < nc; ++c) {
-          double s = 0.0;
-          for (size_t j = 0; j < ntaps; ++j) s += taps_[j] * inputAt(n0 + static_cast<int64_t>(j), c);
-          out[base + c] = s;
-        }
-      }
-      ++n_out_;
+  const double hw = half_width_s_ * fi;  // half width in input samples
+  uint64_t k = n_out_;
+  for (;;) {
+    const double p = static_cast<double>(k) * r;
+    const int64_t lo = static_cast<int64_t>(std::ceil(p - hw));
+    const int64_t hi = static_cast<int64_t>(std::floor(p + hw));
+    if (flushing ? p > static_cast<double>(last_in) + 1e-9 : hi > last_in) break;
+    const size_t base = out.size();
+    out.resize(base + nc, 0.0);
+    double wsum = 0.0;
+    for (int64_t n = lo; n <= hi; ++n) {
+      const double w = kernel((static_cast<double>(n) - p) / fi);
+      wsum += w;
+      for (size_t c = 0; c < nc; ++c) out[base + c] += w * inputAt(n, c);
     }
-    keep_from = static_cast<int64_t>(n_out_) * ratio_ - d;
-  } else {
-    const double hw = half_width_s_ * fi;  // half width in input samples
-    for (;;) {
-      const double p = static_cast<double>(n_out_) * r;
-      const int64_t lo = static_cast<int64_t>(std::ceil(p - hw));
-      const int64_t hi = static_cast<int64_t>(std::floor(p + hw));
-      if (flushing ? p > static_cast<double>(last_in) + 1e-9 : hi > last_in) break;
-      const size_t base = out.size();
-      out.resize(base + nc, 0.0);
-      double wsum = 0.0;
-      for (int64_t n = lo; n <= hi; ++n) {
-        const double w = kernel((static_cast<double>(n) - p) / fi);
-        wsum += w;
-        for (size_t c = 0; c < nc; ++c) out[base + c] += w * inputAt(n, c);
-      }
-      for (size_t c = 0; c < nc; ++c) out[base + c] /= wsum;
-      ++n_out_;
-    }
-    keep_from = static_cast<int64_t>(std::ceil(static_cast<double>(n_out_) * r - hw)) - 1;
+    for (size_t c = 0; c < nc; ++c) out[base + c] /= wsum;
+    ++k;
   }
-  // Drop input frames no longer needed (amortised: only when at least half the buffer is stale).
-  keep_from = std::max(keep_from, buf_first_);
-  const int64_t drop = std::min<int64_t>(keep_from - buf_first_, static_cast<int64_t>(n_in_) - buf_first_);
-  const int64_t held = static_cast<int64_t>(buf_.size() / nc);
-  if (drop > 0 && 2 * drop >= held) {
+  const int64_t keep_from =
+      std::min<int64_t>(static_cast<int64_t>(std::ceil(static_cast<double>(k) * r - hw)) - 1, last_in);
+  const int64_t drop = keep_from - buf_first_;
+  if (drop > 0 && 2 * drop >= static_cast<int64_t>(buf_.size() / nc)) {
     buf_.erase(buf_.begin(), buf_.begin() + drop * static_cast<int64_t>(nc));
     buf_first_ += drop;
   }

@@ -116,7 +116,7 @@ struct ImplT : Solver::Impl {
       vb[d].resize(n);
       for (size_t i = 0; i < n; ++i) {
         const double a = mass[i] / dt_s;
-        const bool fixed = o.lateral_rollers && d < 2;
+        const bool fixed = (o.lateral_rollers && d < 2) || (o.fixed_bottom && i >= n - sxy);
         va[d][i] = fixed ? Real(0) : static_cast<Real>((a - 0.5 * c[d][i]) / (a + 0.5 * c[d][i]));
         vb[d][i] = fixed ? Real(0) : static_cast<Real>(1.0 / (a + 0.5 * c[d][i]));
       }
@@ -314,6 +314,11 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::m
           }
         }
       }
+    }
+  }
+  if (options_.mass_damping_1_s > 0.0) {
+    for (size_t nd = 0; nd < m.nodeCount(); ++nd) {
+      for (int d = 0; d < 3; ++d) c[d][nd] += options_.mass_damping_1_s * extra_->mass[nd];
     }
   }
   if (options_.precision == Precision::Float) {

@@ -42,6 +42,11 @@ struct ModalResult {
 
 ModalResult modalAnalysis(const BuildingModel& model, const ModalOptions& options = {});
 
+/// Lowest `count` natural frequencies (Hz) of K x = w^2 diag(m) x (m >= 0, K - sigma diag(m) positive
+/// definite), with the same shift-invert Lanczos solver. Used for element tests on small models.
+std::vector<double> lowestFrequencies(const Eigen::SparseMatrix<double>& k, const Eigen::VectorXd& m, int count,
+                                      double sigma = 0.0);
+
 /// Automatic label of a mode from its kinetic energy distribution (exposed for tests).
 std::string labelMode(const BuildingModel& model, const Mode& mode, double total_mass_kg);
 

@@ -42,6 +42,10 @@ struct SolverOptions {
   double absorbing_layer_alpha_1_s = 0.0;
   /// Constrain u_x = u_y = 0 everywhere (1D column tests).
   bool lateral_rollers = false;
+  /// Fix every bottom node (static tests; instead of the bottom dashpots).
+  bool fixed_bottom = false;
+  /// Uniform mass-proportional damping alpha M v (1/s) (dynamic relaxation in static tests).
+  double mass_damping_1_s = 0.0;
   /// Stiffness-proportional Rayleigh coefficient and cut-off of the damping filter.
   double rayleigh_beta_s = 0.0;
   double damping_cutoff_hz = 300.0;

@@ -67,7 +67,7 @@ struct EndParams {
   /// Length of the damping layer at each end (0 = no layer).
   double absorbing_length_m = 12.0;
   /// Maximum mass-proportional damping rate eta_max (1/s) at the very end.
-  double max_damping_rate_1_s = 1500.0;
+  double max_damping_rate_1_s = 300.0;
 };
 
 struct TrackParams {

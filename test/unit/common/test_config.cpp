@@ -106,3 +106,22 @@ TEST(Config, HarenScenarioLoadsAndCarriesPaperValues) {
   EXPECT_DOUBLE_EQ(c.section("soil").number("rayleigh_beta_s", Range::nonNegative()), 4.0e-4);
   EXPECT_NEAR(c.section("simulation").number("speed_m_s", Range::positive()) * 3.6, 30.0, 1e-9);
 }
+
+#include "railvib/common/site.hpp"
+
+TEST(SiteLayout, PlacesBuildingFourMetresFromExteriorRail) {
+  const Config c = Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml");
+  const railvib::SiteLayout site = railvib::loadSiteLayout(c);
+  EXPECT_NEAR(site.building_origin_y_m - site.exterior_rail_y_m, 4.0, 1e-12);  // [paper]
+  EXPECT_NEAR(site.exterior_rail_y_m, 1.435 / 2, 1e-12);
+  ASSERT_EQ(site.ground_sensors.size(), 2u);
+  EXPECT_EQ(site.ground_sensors[0].name, "ground_2m");
+  EXPECT_NEAR(site.ground_sensors[1].y_m, 8.0, 1e-12);
+}
+
+TEST(SiteLayout, RejectsDuplicateSensorNames) {
+  const Config c = Config::fromString(
+      "site:\n  rail_gauge_m: 1.435\n  building: {center_x_m: 0, front_wall_distance_from_rail_m: 4}\n"
+      "  ground_sensors:\n    - {name: a, x_m: 0, y_m: 2}\n    - {name: a, x_m: 0, y_m: 8}\n");
+  EXPECT_THROW(railvib::loadSiteLayout(c), ConfigError);
+}

@@ -1,0 +1,24 @@
+// railvib/soil: compact binary file of surface snapshots (vertical velocity).
+//
+// Layout (little-endian):
+//   char[8]  "RVBSNAP1"
+//   uint64   nx_nodes, ny_nodes            (x fastest)
+//   float64  x0_m, y0_m, dx_m, dy_m        (node (i, j) at x0 + i dx, y0 + j dy; frame `track`, z = 0)
+//   uint64   snapshot count
+//   then per snapshot: uint64 index, float64 time_s, float32[nx_nodes * ny_nodes] vz_up_m_s
+// Python: see docs/soil.md (numpy.fromfile with the header offsets).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "railvib/soil/soil_model.hpp"
+
+namespace railvib::soil {
+
+/// Write snapshots atomically (all must share one grid). Throws std::runtime_error.
+void writeSnapshots(const std::string& path, const std::vector<SurfaceSnapshot>& snapshots);
+/// Read a snapshot file back. Throws std::runtime_error on a malformed file.
+std::vector<SurfaceSnapshot> readSnapshots(const std::string& path);
+
+}  // namespace railvib::soil

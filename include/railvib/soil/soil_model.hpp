@@ -1,0 +1,107 @@
+// railvib/soil: the soil model as a stream processor — the whole computation
+// of the soil node (the node only moves messages).
+//
+//   SoilModel model(params, params.sleeperPositions());
+//   model.pushLoads(first_index, forces, frames);   // [frame][sleeper], N, downward +, both rails
+//   model.advance(t_target);                          // steps as far as the loads allow
+//   model.takeReceiverSamples(block);                 // new receiver frames (filtered, receiver rate)
+//   model.takeSnapshots(snaps);                       // new surface snapshots (snapshot rate)
+//   ... model.finishLoads(); model.advance(t_end); model.finishOutputs(); take...()
+//
+// Load sample n stands for time n / load_rate (n = 0 at t = 0); blocks must be
+// contiguous (SampleIndexTracker, StreamGapError otherwise). The loads are
+// evaluated at the soil step times with the railvib/signal StreamInterpolator
+// (cubic; the track already low-passed them). Receiver velocities (x, y, z up,
+// m/s, frame `track`) go through the railvib/signal Decimator to
+// receiver_rate_hz: output frame k stands for time k / receiver_rate exactly.
+// Surface snapshots hold the vertical (up) velocity of every surface node,
+// averaged over 1 / snapshot_rate centred on the snapshot time k / snapshot_rate.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "railvib/common/sample_stream.hpp"
+#include "railvib/signal/decimator.hpp"
+#include "railvib/soil/soil_params.hpp"
+#include "railvib/soil/solver.hpp"
+
+namespace railvib::soil {
+
+struct ReceiverBlock {
+  uint64_t first_index = 0;  // output frame index of the first frame (time first_index / rate_hz)
+  double rate_hz = 0.0;
+  std::vector<std::string> names;  // receivers, in channel order
+  /// frames x receivers x 3 (vx, vy, vz up), m/s, interleaved.
+  std::vector<double> velocity_m_s;
+  size_t frames() const { return names.empty() ? 0 : velocity_m_s.size() / (3 * names.size()); }
+};
+
+struct SurfaceSnapshot {
+  uint64_t index = 0;
+  double time_s = 0.0;
+  size_t nx_nodes = 0, ny_nodes = 0;  // x fastest
+  double x0_m = 0.0, y0_m = 0.0, dx_m = 0.0, dy_m = 0.0;
+  std::vector<float> vz_up_m_s;
+};
+
+class SoilModel {
+ public:
+  /// Builds the mesh and the solver; sleepers outside the mesh are an error or
+  /// dropped (params.loads_outside_mesh). Throws ConfigError / std::invalid_argument.
+  SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m);
+  ~SoilModel();
+
+  const Solver& solver() const { return *solver_; }
+  const SoilParams& params() const { return params_; }
+  double dt() const { return solver_->dt(); }
+  double time() const { return solver_->time(); }
+  size_t sleeperCount() const { return sleeper_x_.size(); }
+  /// Sleepers whose load is ignored (outside the mesh, loads_outside_mesh = drop).
+  const std::vector<size_t>& droppedSleepers() const { return dropped_; }
+  const std::vector<ReceiverSpec>& receivers() const { return params_.receivers; }
+  /// Mesh, time step, memory and per-layer resolution (printed by the tool).
+  nlohmann::json summary() const;
+
+  /// Append load frames [first_index, first_index + frames), row-major [frame][sleeper].
+  void pushLoads(uint64_t first_index, const double* forces_n, size_t frames);
+  void pushLoads(uint64_t first_index, const std::vector<double>& forces_n) {
+    pushLoads(first_index, forces_n.data(), forces_n.size() / sleeperCount());
+  }
+  /// No more loads: the last value is held.
+  void finishLoads();
+  /// Latest step time the loads received so far allow.
+  double loadsAvailableUntil() const;
+  /// Step while the step time t_n < t_target_s and the loads cover t_n. Returns steps taken.
+  uint64_t advance(double t_target_s);
+  /// End of run: flush the receiver decimator (emits the frames up to the current time).
+  void finishOutputs();
+
+  /// Move the receiver frames produced since the last call into `out` (replaces its content).
+  void takeReceiverSamples(ReceiverBlock& out);
+  /// Append the snapshots produced since the last call.
+  void takeSnapshots(std::vector<SurfaceSnapshot>& out);
+
+ private:
+  void recordOutputs();
+
+  SoilParams params_;
+  std::vector<double> sleeper_x_;
+  std::vector<size_t> dropped_;
+  std::unique_ptr<Solver> solver_;
+  std::unique_ptr<signal::StreamInterpolator> loads_;
+  SampleIndexTracker load_tracker_{"soil_loads"};
+  std::unique_ptr<signal::Decimator> rec_decimator_;
+  std::vector<double> rec_prev_, rec_now_, rec_frame_, rec_out_;
+  uint64_t rec_out_first_ = 0;
+  std::vector<double> surf_prev_, surf_now_, surf_acc_;
+  uint64_t snap_steps_ = 0, snap_count_ = 0, snap_acc_n_ = 0;
+  std::vector<SurfaceSnapshot> snaps_;
+  std::vector<double> channel_values_, load_eval_;
+  double load_t_offset_ = 0.0;
+};
+
+}  // namespace railvib::soil

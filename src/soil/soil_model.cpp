@@ -1,0 +1,232 @@
+#include "railvib/soil/soil_model.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace railvib::soil {
+
+namespace {
+
+// Integral of the 1D hat function of node xi (support [xi - h_left, xi + h_right]) over [a, b].
+double hatIntegral(double xi, double h_left, double h_right, double a, double b) {
+  auto prim = [&](double x) {
+    if (x <= xi - h_left) return 0.0;
+    if (x <= xi) {
+      const double s = x - (xi - h_left);
+      return s * s / (2.0 * h_left);
+    }
+    if (x < xi + h_right) {
+      const double s = xi + h_right - x;
+      return 0.5 * h_left + 0.5 * h_right - s * s / (2.0 * h_right);
+    }
+    return 0.5 * h_left + 0.5 * h_right;
+  };
+  return prim(b) - prim(a);
+}
+
+// Weights of the nodes of a uniform 1D grid (n + 1 nodes from x0, step h) for a
+// uniform load on [a, b] (consistent nodal loads, sum 1 when [a, b] is inside).
+std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n, double a, double b) {
+  std::vector<std::pair<size_t, double>> w;
+  const long i0 = std::max<long>(0, static_cast<long>(std::floor((a - x0) / h)) - 1);
+  const long i1 = std::min<long>(static_cast<long>(n), static_cast<long>(std::ceil((b - x0) / h)) + 1);
+  for (long i = i0; i <= i1; ++i) {
+    const double xi = x0 + h * static_cast<double>(i);
+    const double hl = i == 0 ? 1e-300 : h, hr = i == static_cast<long>(n) ? 1e-300 : h;
+    const double v = hatIntegral(xi, hl, hr, a, b) / (b - a);
+    if (v > 0.0) w.emplace_back(static_cast<size_t>(i), v);
+  }
+  return w;
+}
+
+}  // namespace
+
+SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m)
+    : params_(params), sleeper_x_(sleeper_x_m) {
+  StructuredMesh mesh = buildMesh(params_.profile, params_.mesh);
+  solver_ = std::make_unique<Solver>(std::move(mesh), params_.solver);
+  const StructuredMesh& m = solver_->mesh();
+  // Sleeper footprints -> consistent nodal loads (downward = +d).
+  const double hl = 0.5 * params_.sleeper_length_m, hw = 0.5 * params_.sleeper_width_m;
+  std::vector<size_t> outside;
+  for (size_t s = 0; s < sleeper_x_.size(); ++s) {
+    const double xa = sleeper_x_[s] - hw, xb = sleeper_x_[s] + hw;
+    const bool inside = xa >= m.x0 - 1e-9 && xb <= m.xMax() + 1e-9 && -hl >= m.y0 - 1e-9 && hl <= m.yMax() + 1e-9;
+    if (!inside) {
+      outside.push_back(s);
+      continue;
+    }
+    ForceChannel ch;
+    const auto wx = lineWeights(m.x0, m.hx, m.nx, xa, xb);
+    const auto wy = lineWeights(m.y0, m.hy, m.ny, -hl, hl);
+    for (const auto& [i, a] : wx) {
+      for (const auto& [j, b] : wy) {
+        ch.nodes.push_back(m.node(i, j, 0));
+        ch.components.push_back(2);
+        ch.weights.push_back(a * b);
+      }
+    }
+    solver_->addForceChannel(std::move(ch));
+  }
+  if (!outside.empty() && params_.loads_outside_mesh == "error") {
+    std::ostringstream why;
+    why << outside.size() << " sleeper footprints (e.g. x = " << sleeper_x_[outside.front()]
+        << " m) lie outside the soil mesh x [" << m.x0 << ", " << m.xMax() << "] m; widen soil.mesh or set "
+        << "soil.loads.outside_mesh: drop";
+    throw ConfigError("soil.loads.outside_mesh: " + why.str());
+  }
+  dropped_ = outside;
+  channel_values_.assign(sleeper_x_.size() - dropped_.size(), 0.0);
+  load_eval_.assign(sleeper_x_.size(), 0.0);
+  loads_ = std::make_unique<signal::StreamInterpolator>(params_.load_sample_rate_hz, sleeper_x_.size(), 0.0);
+
+  const double ratio = std::round(1.0 / (solver_->dt() * params_.receiver_rate_hz));
+  signal::DecimatorSpec spec;
+  spec.input_rate_hz = ratio * params_.receiver_rate_hz;
+  spec.output_rate_hz = params_.receiver_rate_hz;
+  if (!params_.receivers.empty()) {
+    rec_decimator_ = std::make_unique<signal::Decimator>(spec, 3 * params_.receivers.size(), 0.0);
+  }
+  rec_prev_.assign(3 * params_.receivers.size(), 0.0);
+  rec_now_ = rec_prev_;
+  rec_frame_ = rec_prev_;
+  snap_steps_ = static_cast<uint64_t>(std::llround(ratio * params_.receiver_rate_hz / params_.snapshot_rate_hz));
+  const size_t ns = (m.nx + 1) * (m.ny + 1);
+  surf_prev_.assign(ns, 0.0);
+  surf_acc_.assign(ns, 0.0);
+}
+
+SoilModel::~SoilModel() = default;
+
+nlohmann::json SoilModel::summary() const {
+  const Solver& s = *solver_;
+  const StructuredMesh& m = s.mesh();
+  nlohmann::json layers = nlohmann::json::array();
+  for (const auto& l : m.layers) {
+    layers.push_back({{"top_m", l.top_m},
+                      {"bottom_m", l.bottom_m},
+                      {"levels", l.levels},
+                      {"dz_m", l.dz_m},
+                      {"vs_m_s", l.material.vs()},
+                      {"vp_m_s", l.material.vp()},
+                      {"resolved_hz", l.resolved_hz}});
+  }
+  const size_t snapshot_bytes = 3 * (m.nx + 1) * (m.ny + 1) * sizeof(double);
+  return {{"elements", m.elementCount()},
+          {"nodes", m.nodeCount()},
+          {"dofs", 3 * m.nodeCount()},
+          {"nx", m.nx},
+          {"ny", m.ny},
+          {"nz", m.nz},
+          {"hx_m", m.hx},
+          {"hy_m", m.hy},
+          {"box_m", {{m.x0, m.xMax()}, {m.y0, m.yMax()}, {0.0, m.depth()}}},
+          {"layers", layers},
+          {"dt_s", s.dt()},
+          {"dt_undamped_limit_s", s.dtUndamped()},
+          {"dt_filtered_rayleigh_limit_s", s.dtDamped()},
+          {"dt_naive_rayleigh_limit_s", s.dtNaiveRayleigh()},
+          {"precision", s.options().precision == Precision::Float ? "float" : "double"},
+          {"threads", s.options().threads > 0 ? s.options().threads : omp_get_max_threads()},
+          {"memory_bytes", s.memoryBytes() + snapshot_bytes},
+          {"sleepers_loaded", sleeper_x_.size() - dropped_.size()},
+          {"sleepers_dropped", dropped_.size()},
+          {"receivers", params_.receivers.size()}};
+}
+
+void SoilModel::pushLoads(uint64_t first_index, const double* forces_n, size_t frames) {
+  load_tracker_.accept(first_index, frames);
+  loads_->push(forces_n, frames);
+}
+
+void SoilModel::finishLoads() { loads_->finish(); }
+
+double SoilModel::loadsAvailableUntil() const { return loads_->availableUntil(); }
+
+uint64_t SoilModel::advance(double t_target_s) {
+  uint64_t n = 0;
+  while (solver_->time() < t_target_s - 1e-9 * solver_->dt() && loads_->canEvaluate(solver_->time())) {
+    loads_->evaluate(solver_->time(), load_eval_.data());
+    size_t c = 0, d = 0;
+    for (size_t s = 0; s < sleeper_x_.size(); ++s) {
+      if (d < dropped_.size() && dropped_[d] == s) {
+        ++d;
+        continue;
+      }
+      channel_values_[c++] = load_eval_[s];
+    }
+    solver_->setChannelValues(channel_values_);
+    solver_->step();
+    recordOutputs();
+    ++n;
+    if ((solver_->stepCount() & 255) == 0) loads_->discardBefore(solver_->time());
+  }
+  return n;
+}
+
+void SoilModel::recordOutputs() {
+  // Half-step velocities -> values at t_n = (stepCount - 1) dt by averaging.
+  const auto& rec = params_.receivers;
+  for (size_t r = 0; r < rec.size(); ++r) {
+    double v[3];
+    solver_->velocityAt(rec[r].x_m, rec[r].y_m, -rec[r].z_m, v);
+    rec_now_[3 * r] = v[0];
+    rec_now_[3 * r + 1] = v[1];
+    rec_now_[3 * r + 2] = -v[2];
+  }
+  for (size_t q = 0; q < rec_now_.size(); ++q) rec_frame_[q] = 0.5 * (rec_prev_[q] + rec_now_[q]);
+  rec_prev_.swap(rec_now_);
+  if (rec_decimator_) rec_decimator_->push(rec_frame_.data(), 1, rec_out_);
+
+  // Snapshots: box mean over [t_k - T/2, t_k + T/2) of the vertical (up) velocity.
+  solver_->surfaceVelocityD(surf_now_);
+  const uint64_t n = solver_->stepCount() - 1;  // the frame just completed stands for t_n
+  const uint64_t k = (n + snap_steps_ / 2) / snap_steps_;
+  if (k != snap_count_) {
+    SurfaceSnapshot s;
+    const StructuredMesh& m = solver_->mesh();
+    s.index = snap_count_;
+    s.time_s = static_cast<double>(snap_count_) / params_.snapshot_rate_hz;
+    s.nx_nodes = m.nx + 1;
+    s.ny_nodes = m.ny + 1;
+    s.x0_m = m.x0;
+    s.y0_m = m.y0;
+    s.dx_m = m.hx;
+    s.dy_m = m.hy;
+    s.vz_up_m_s.resize(surf_acc_.size());
+    for (size_t i = 0; i < surf_acc_.size(); ++i) {
+      s.vz_up_m_s[i] = static_cast<float>(surf_acc_[i] / static_cast<double>(snap_acc_n_));
+    }
+    snaps_.push_back(std::move(s));
+    std::fill(surf_acc_.begin(), surf_acc_.end(), 0.0);
+    snap_acc_n_ = 0;
+    snap_count_ = k;
+  }
+  for (size_t i = 0; i < surf_acc_.size(); ++i) surf_acc_[i] += -0.5 * (surf_prev_[i] + surf_now_[i]);
+  ++snap_acc_n_;
+  surf_prev_.swap(surf_now_);
+}
+
+void SoilModel::finishOutputs() {
+  if (rec_decimator_ && !rec_decimator_->flushed()) rec_decimator_->flush(rec_out_);
+}
+
+void SoilModel::takeReceiverSamples(ReceiverBlock& out) {
+  out.first_index = rec_out_first_;
+  out.rate_hz = params_.receiver_rate_hz;
+  out.names.clear();
+  for (const auto& r : params_.receivers) out.names.push_back(r.name);
+  out.velocity_m_s.swap(rec_out_);
+  rec_out_.clear();
+  rec_out_first_ += out.frames();
+}
+
+void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
+  for (auto& s : snaps_) out.push_back(std::move(s));
+  snaps_.clear();
+}
+
+}  // namespace railvib::soil

@@ -1,0 +1,254 @@
+#include "railvib/soil/verification.hpp"
+
+#include <omp.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace railvib::soil {
+
+namespace {
+
+double hannStep(double t, double rise) {
+  if (t <= 0.0) return 0.0;
+  if (t >= rise) return 1.0;
+  return 0.5 * (1.0 - std::cos(M_PI * t / rise));
+}
+
+double hannPulse(double t, double duration) {
+  if (t <= 0.0 || t >= duration) return 0.0;
+  return 0.5 * (1.0 - std::cos(2.0 * M_PI * t / duration));
+}
+
+struct ColumnRun {
+  std::vector<double> t, v;
+  double dt = 0.0;
+  size_t elements = 0;
+};
+
+ColumnRun columnRun(const ColumnSpec& s, bool pulse, double t_end) {
+  const size_t nz = static_cast<size_t>(std::llround(s.length_m / s.dz_m));
+  std::vector<double> z(nz + 1);
+  for (size_t k = 0; k <= nz; ++k) z[k] = s.dz_m * static_cast<double>(k);
+  StructuredMesh mesh = buildUniformMesh(1, 1, s.dz_m, s.dz_m, z, std::vector<Material>(nz, s.material));
+  SolverOptions o;
+  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = false;
+  o.absorb_bottom = true;
+  o.lateral_rollers = true;
+  o.precision = s.precision;
+  o.threads = 1;
+  Solver solver(std::move(mesh), o);
+  const auto& m = solver.mesh();
+  ForceChannel top;
+  for (size_t c = 0; c < 4; ++c) {
+    top.nodes.push_back(m.node(c & 1, (c >> 1) & 1, 0));
+    top.components.push_back(2);
+    top.weights.push_back(m.hx * m.hy / 4.0);
+  }
+  solver.addForceChannel(top);
+  ColumnRun run;
+  run.dt = solver.dt();
+  run.elements = m.elementCount();
+  std::vector<double> val(1);
+  while (solver.time() < t_end) {
+    const double t = solver.time();
+    val[0] = s.pressure_pa * (pulse ? hannPulse(t, s.rise_s) : hannStep(t, s.rise_s));
+    solver.setChannelValues(val);
+    solver.step();
+    double vel[3];
+    solver.velocityAt(0.5 * m.hx, 0.5 * m.hy, s.receiver_depth_m, vel);
+    run.t.push_back(solver.time() - 0.5 * solver.dt());
+    run.v.push_back(vel[2]);
+  }
+  return run;
+}
+
+double meanOver(const ColumnRun& r, double a, double b) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i < r.t.size(); ++i) {
+    if (r.t[i] >= a && r.t[i] <= b) {
+      sum += r.v[i];
+      ++n;
+    }
+  }
+  if (n == 0) throw std::logic_error("column: empty averaging window");
+  return sum / static_cast<double>(n);
+}
+
+double maxAbsOver(const ColumnRun& r, double a, double b) {
+  double m = 0.0;
+  for (size_t i = 0; i < r.t.size(); ++i) {
+    if (r.t[i] >= a && r.t[i] <= b) m = std::max(m, std::abs(r.v[i]));
+  }
+  return m;
+}
+
+}  // namespace
+
+ColumnResult runColumn(const ColumnSpec& s) {
+  ColumnResult res;
+  const double vp = s.material.vp();
+  res.expected_velocity_m_s = s.pressure_pa / (s.material.density_kg_m3 * vp);
+  const double t_arrival = s.receiver_depth_m / vp;
+  const double t_reflect = (2.0 * s.length_m - s.receiver_depth_m) / vp;
+  // Step: plateau between the incident front and the reflection; then after it.
+  {
+    const double t_end = t_reflect + 3.0 * s.rise_s + 0.25 * (t_reflect - t_arrival);
+    const ColumnRun r = columnRun(s, false, t_end);
+    res.dt_s = r.dt;
+    res.elements = r.elements;
+    res.incident_velocity_m_s = meanOver(r, t_arrival + 2.0 * s.rise_s, t_reflect - s.rise_s);
+    res.after_velocity_m_s = meanOver(r, t_reflect + 3.0 * s.rise_s, t_end);
+    res.velocity_error = res.incident_velocity_m_s / res.expected_velocity_m_s - 1.0;
+    res.step_reflection = (res.after_velocity_m_s - res.incident_velocity_m_s) / res.incident_velocity_m_s;
+  }
+  // Pulse: incident peak, then the largest |v| when the reflection would pass.
+  {
+    const double t_end = t_reflect + 3.0 * s.rise_s;
+    const ColumnRun r = columnRun(s, true, t_end);
+    res.pulse_incident_peak_m_s = maxAbsOver(r, 0.0, t_arrival + 3.0 * s.rise_s);
+    res.pulse_reflected_peak_m_s = maxAbsOver(r, t_reflect - 0.5 * s.rise_s, t_end);
+    res.pulse_reflection = res.pulse_reflected_peak_m_s / res.pulse_incident_peak_m_s;
+  }
+  return res;
+}
+
+namespace {
+// Lowest non-rigid mode of a free 2x2x2 box of unit element size: eigenvalue and M-normalised shape.
+void lowestFreeMode(const Material& mat, double h, double& lambda, std::vector<double>& shape) {
+  std::vector<double> z = {0.0, h, 2.0 * h};
+  SolverOptions o;
+  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = o.absorb_bottom = false;
+  o.precision = Precision::Double;
+  o.threads = 1;
+  Solver probe(buildUniformMesh(2, 2, h, h, z, {mat, mat}), o);
+  const size_t n = probe.mesh().nodeCount(), ndof = 3 * n;
+  Eigen::MatrixXd a(ndof, ndof);
+  std::vector<double> f;
+  for (size_t q = 0; q < ndof; ++q) {
+    probe.setDisplacement(q / 3, static_cast<int>(q % 3), 1.0);
+    probe.internalForce(f);
+    probe.setDisplacement(q / 3, static_cast<int>(q % 3), 0.0);
+    for (size_t r = 0; r < ndof; ++r) {
+      a(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(q)) =
+          -f[r] / std::sqrt(probe.nodalMass(r / 3) * probe.nodalMass(q / 3));
+    }
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (a + a.transpose()));
+  const double top = es.eigenvalues().maxCoeff();
+  for (Eigen::Index i = 0; i < es.eigenvalues().size(); ++i) {
+    if (es.eigenvalues()(i) > 1e-8 * top) {
+      lambda = es.eigenvalues()(i);
+      shape.resize(ndof);
+      for (size_t r = 0; r < ndof; ++r) {
+        shape[r] = es.eigenvectors()(static_cast<Eigen::Index>(r), i) / std::sqrt(probe.nodalMass(r / 3));
+      }
+      return;
+    }
+  }
+  throw std::logic_error("no elastic mode found");
+}
+}  // namespace
+
+DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz, Precision precision) {
+  const Material mat{61.0e6, 1876.0, 0.13};
+  double lambda1 = 0.0;
+  std::vector<double> shape;
+  lowestFreeMode(mat, 1.0, lambda1, shape);
+  const double f1 = std::sqrt(lambda1) / (2.0 * M_PI);
+  const double h = f1 / f_hz;  // frequencies scale as 1 / h
+  std::vector<double> z = {0.0, h, 2.0 * h};
+  SolverOptions o;
+  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = o.absorb_bottom = false;
+  o.rayleigh_beta_s = beta_s;
+  o.damping_cutoff_hz = cutoff_hz;
+  o.precision = precision;
+  o.threads = 1;
+  const double period = 1.0 / f_hz;
+  {
+    Solver tmp(buildUniformMesh(2, 2, h, h, z, {mat, mat}), o);
+    if (tmp.dt() > period / 20.0) o.dt_s = period / 20.0;
+  }
+  Solver s(buildUniformMesh(2, 2, h, h, z, {mat, mat}), o);
+  const size_t n = s.mesh().nodeCount();
+  // Mode shapes are geometry-invariant; the M-normalisation scales with h^(3/2): only the shape matters here.
+  for (size_t q = 0; q < 3 * n; ++q) s.setDisplacement(q / 3, static_cast<int>(q % 3), 1e-3 * shape[q]);
+  auto modal = [&]() {
+    double acc = 0.0;
+    for (size_t q = 0; q < 3 * n; ++q) acc += shape[q] * s.nodalMass(q / 3) * s.displacement(q / 3, static_cast<int>(q % 3));
+    return acc;
+  };
+  const double target = beta_s * 2.0 * M_PI * f_hz / 2.0;
+  // Run about 1.5 / (target omega) seconds (amplitude falls to ~e^-1.5), at least 20 periods.
+  const double t_end = std::max(20.0 * period, 1.5 / (target * 2.0 * M_PI * f_hz));
+  std::vector<double> q, t;
+  q.push_back(modal());
+  t.push_back(0.0);
+  while (s.time() < t_end) {
+    s.step();
+    q.push_back(modal());
+    t.push_back(s.time());
+  }
+  // Positive peaks with parabolic refinement; least-squares slope of ln(peak).
+  std::vector<double> pt, pl;
+  std::vector<double> crossings;
+  for (size_t i = 1; i + 1 < q.size(); ++i) {
+    if (q[i] > q[i - 1] && q[i] >= q[i + 1] && q[i] > 0.0) {
+      const double d = q[i - 1] - 2 * q[i] + q[i + 1];
+      const double off = d != 0.0 ? 0.5 * (q[i - 1] - q[i + 1]) / d : 0.0;
+      const double peak = q[i] - 0.25 * (q[i - 1] - q[i + 1]) * off;
+      pt.push_back(t[i] + off * s.dt());
+      pl.push_back(std::log(peak));
+    }
+    if (q[i] <= 0.0 && q[i + 1] > 0.0) crossings.push_back(t[i] + s.dt() * q[i] / (q[i] - q[i + 1]));
+  }
+  if (pt.size() < 3 || crossings.size() < 2) throw std::logic_error("damping decay: too few peaks");
+  double st = 0, sl = 0, stt = 0, stl = 0;
+  const double np = static_cast<double>(pt.size());
+  for (size_t i = 0; i < pt.size(); ++i) {
+    st += pt[i];
+    sl += pl[i];
+    stt += pt[i] * pt[i];
+    stl += pt[i] * pl[i];
+  }
+  const double slope = (np * stl - st * sl) / (np * stt - st * st);
+  DampingDecayResult r;
+  r.frequency_hz = static_cast<double>(crossings.size() - 1) / (crossings.back() - crossings.front());
+  r.measured_ratio = -slope / (2.0 * M_PI * r.frequency_hz);
+  r.target_ratio = beta_s * 2.0 * M_PI * r.frequency_hz / 2.0;
+  r.dt_s = s.dt();
+  r.dt_undamped_s = s.dtUndamped();
+  r.dt_naive_s = s.dtNaiveRayleigh();
+  return r;
+}
+
+ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps) {
+  const Material mat{61.0e6, 1876.0, 0.13};
+  const double h = 0.3;
+  std::vector<double> z(nz + 1);
+  for (size_t k = 0; k <= nz; ++k) z[k] = h * static_cast<double>(k);
+  SolverOptions o;
+  o.precision = precision;
+  o.threads = threads;
+  o.rayleigh_beta_s = 4e-4;
+  Solver s(buildUniformMesh(nx, ny, h, h, z, std::vector<Material>(nz, mat)), o);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> dist(-1e-4, 1e-4);
+  for (size_t i = 0; i < s.mesh().nodeCount(); i += 7) s.setDisplacement(i, static_cast<int>(i % 3), dist(rng));
+  s.run(2);
+  const double t0 = omp_get_wtime();
+  s.run(static_cast<uint64_t>(steps));
+  const double el = omp_get_wtime() - t0;
+  ThroughputResult r;
+  r.elements = s.mesh().elementCount();
+  r.threads = threads;
+  r.seconds_per_step = el / steps;
+  r.element_updates_per_s = static_cast<double>(r.elements) * steps / el;
+  return r;
+}
+
+}  // namespace railvib::soil

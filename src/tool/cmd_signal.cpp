@@ -1,0 +1,210 @@
+// railvib_tool signal commands: metrics (vibration metrics of a CSV record),
+// din-check (DIN 45669-1 KB test table computed vs expected).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "command_registry.hpp"
+#include "railvib/io/csv.hpp"
+#include "railvib/signal/din_check.hpp"
+#include "railvib/signal/monitor.hpp"
+#include "tool_common.hpp"
+
+namespace railvib::tool {
+namespace {
+
+using nlohmann::json;
+using namespace railvib::signal;
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+// JSON cannot hold -inf (silent band): print null.
+json dbValue(double db) { return std::isfinite(db) ? json(std::round(db * 100.0) / 100.0) : json(nullptr); }
+
+int metrics(const std::vector<std::string>& args) {
+  ArgParser p("metrics",
+              "vibration metrics of a velocity record: DIN 4150-2 KB_Fmax, PPV and DIN 4150-3 verdict, "
+              "dominant frequency, one-third-octave levels");
+  p.option("csv", "input CSV file (header row, numeric rows)");
+  p.option("column", "velocity column(s), comma-separated (e.g. vz or vx,vy,vz)");
+  p.option("rate", "sample rate (Hz); default: from the time column");
+  p.option("time-column", "time column (s), used when --rate is not given", "t_s");
+  p.option("unit", "velocity unit of the columns: m_s | mm_s", "m_s");
+  p.option("out", "write KB_F(t) per column to this CSV");
+  p.option("period", "DIN 4150-2 period for the verdict: day | night", "day");
+  p.option("exposure-s", "DIN 4150-2 exposure time within the rating period (s) for KB_FTr; default: record length");
+  p.option("bands", "one-third-octave nominal range min,max (Hz)", "1,100");
+  p.option("vref", "reference velocity for levels (m/s): 1e-9 (ISO 1683) or 5e-8", "1e-9");
+  if (!p.parse(args)) return 0;
+  if (!p.has("csv") || !p.has("column")) throw ArgError("metrics: --csv and --column are required");
+  const io::CsvTable table = io::readCsv(p.get("csv"));
+  if (table.rows.size() < 2) throw std::runtime_error("metrics: the record needs at least 2 samples");
+  const auto names = splitList(p.get("column"));
+  if (names.empty()) throw ArgError("metrics: --column is empty");
+  const std::string unit = p.get("unit");
+  if (unit != "m_s" && unit != "mm_s") throw ArgError("metrics: --unit must be m_s or mm_s");
+  const double to_m_s = unit == "mm_s" ? 1e-3 : 1.0;
+
+  double fs = 0.0;
+  if (p.has("rate")) {
+    fs = p.getDouble("rate");
+    if (!(fs > 0.0)) throw ArgError("metrics: --rate must be positive");
+  } else {
+    const size_t tc = table.column(p.get("time-column"));
+    const double t_first = table.rows.front()[tc];
+    const double t_last = table.rows.back()[tc];
+    const double dt = (t_last - t_first) / static_cast<double>(table.rows.size() - 1);
+    if (!(dt > 0.0)) throw std::runtime_error("metrics: time column is not increasing");
+    for (size_t i = 1; i < table.rows.size(); ++i) {
+      const double d = table.rows[i][tc] - table.rows[i - 1][tc];
+      if (std::abs(d - dt) > 0.01 * dt) {
+        throw std::runtime_error("metrics: non-uniform sampling at row " + std::to_string(i + 1) +
+                                 " (dt = " + std::to_string(d) + " s vs mean " + std::to_string(dt) +
+                                 " s); resample first or pass --rate");
+      }
+    }
+    fs = 1.0 / dt;
+  }
+
+  std::vector<std::vector<double>> comps;
+  for (const auto& name : names) {
+    const size_t c = table.column(name);
+    std::vector<double> v(table.rows.size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = table.rows[i][c] * to_m_s;
+    comps.push_back(std::move(v));
+  }
+  const auto range = splitList(p.get("bands"));
+  if (range.size() != 2) throw ArgError("metrics: --bands must be min,max");
+  MonitorSpec spec;
+  spec.fs_hz = fs;
+  spec.third_octave_min_hz = std::stod(range[0]);
+  spec.third_octave_max_hz = std::stod(range[1]);
+  spec.v_ref_m_s = p.getDouble("vref");
+  const RecordMetrics r = evaluateRecord(comps, spec);
+  const auto& s = r.summary;
+  const double duration = static_cast<double>(comps.front().size()) / fs;
+
+  const std::string period_name = p.get("period");
+  if (period_name != "day" && period_name != "night") throw ArgError("metrics: --period must be day or night");
+  const Din4150_2Period period = period_name == "day" ? Din4150_2Period::Day : Din4150_2Period::Night;
+  const double exposure = p.has("exposure-s") ? p.getDouble("exposure-s") : duration;
+  double kb_ftm_max = 0.0;
+  for (double v : r.kb_ftm) kb_ftm_max = std::max(kb_ftm_max, v);
+  const double kb_ftr = kbFTr(kb_ftm_max, exposure, period);
+  const Din4150_2Verdict v42 = din4150_2Verdict(s.kb_fmax_all, kb_ftr, period);
+
+  json out;
+  out["input"] = {{"csv", p.get("csv")}, {"columns", names},  {"unit", unit},
+                  {"rate_hz", fs},       {"samples", comps.front().size()}, {"duration_s", duration}};
+  json kb_comp = json::array();
+  json ppv_comp = json::array();
+  json oct_comp = json::array();
+  for (size_t c = 0; c < names.size(); ++c) {
+    kb_comp.push_back({{"column", names[c]}, {"kb_fmax", s.kb_fmax[c]}, {"kb_ftm", r.kb_ftm[c]}});
+    const PpvComponent& pc = s.ppv.components[c];
+    ppv_comp.push_back({{"column", names[c]},
+                        {"ppv_mm_s", pc.ppv_mm_s},
+                        {"time_s", pc.time_s},
+                        {"dominant_frequency_hz", pc.frequency_hz},
+                        {"dominant_frequency_method", "zero-crossing half period around the peak"},
+                        {"spectral_peak_hz", r.spectral_peak_hz[c]},
+                        {"din4150_3_limit_mm_s", pc.limit_mm_s},
+                        {"ratio_to_limit", pc.ratio}});
+    json levels = json::array();
+    for (size_t b = 0; b < s.bands.size(); ++b) {
+      levels.push_back({{"nominal_hz", s.bands[b].nominal_hz}, {"level_db", dbValue(s.third_octave_equivalent_db[c][b])}});
+    }
+    oct_comp.push_back({{"column", names[c]}, {"levels", levels}});
+  }
+  out["din4150_2"] = {{"kb_fmax", s.kb_fmax_all},
+                      {"components", kb_comp},
+                      {"kb_ftr", kb_ftr},
+                      {"exposure_s", exposure},
+                      {"period", period_name},
+                      {"a_u", v42.guide.a_u},
+                      {"a_o", v42.guide.a_o},
+                      {"a_r", v42.guide.a_r},
+                      {"verdict", v42.met ? "met" : "not met"},
+                      {"reason", v42.reason},
+                      {"note", "KB_FTr simplified: KB_FTm of 30 s cycles x sqrt(T_e / T_r), no rest-period surcharge"}};
+  out["din4150_3"] = {{"building", "residential (Table 1 row 2), short-term, foundation"},
+                      {"components", ppv_comp},
+                      {"vector_peak_mm_s", s.ppv.vector_peak_mm_s},
+                      {"vector_peak_time_s", s.ppv.vector_peak_time_s},
+                      {"max_ratio", s.ppv.max_ratio},
+                      {"verdict", s.ppv.exceeded ? "exceeded" : "met"}};
+  out["third_octave"] = {{"v_ref_m_s", spec.v_ref_m_s},
+                         {"method", "6th-order Butterworth band filters, equivalent level over the record"},
+                         {"components", oct_comp}};
+
+  if (p.has("out")) {
+    std::vector<std::string> cols{"t_s"};
+    for (const auto& n : names) cols.push_back("kb_f_" + n);
+    io::CsvWriter w(p.get("out"), cols);
+    std::vector<double> row(cols.size());
+    for (size_t i = 0; i < comps.front().size(); ++i) {
+      row[0] = static_cast<double>(i) / fs;
+      for (size_t c = 0; c < names.size(); ++c) row[c + 1] = r.kb_f[c][i];
+      w.row(row);
+    }
+    w.commit();
+    out["kb_f_csv"] = p.get("out");
+  }
+  printJson(out);
+  return 0;
+}
+
+int dinCheck(const std::vector<std::string>& args) {
+  ArgParser p("din-check",
+              "DIN 45669-1 KB test table (continuous 1 mm/s sines): KB_F and KB_Fmax computed vs expected");
+  p.option("rate", "sample rate(s) of the digital filters (Hz), comma-separated", "500,1000,2000,8000");
+  p.option("tolerance", "relative tolerance for pass", "0.02");
+  if (!p.parse(args)) return 0;
+  const double tol = p.getDouble("tolerance");
+  json out;
+  out["definition"] =
+      "KB_F = steady mean of KB_F(t); KB_Fmax = maximum of its ripple (running rms of a sine oscillates at 2f)";
+  out["tolerance"] = tol;
+  bool all_pass = true;
+  json tables = json::array();
+  for (const auto& rs : splitList(p.get("rate"))) {
+    const double fs = std::stod(rs);
+    json rows = json::array();
+    for (const auto& r : din45669TestTable(fs)) {
+      const double e1 = r.kb_f / r.expected_kb_f - 1.0;
+      const double e2 = r.kb_fmax / r.expected_kb_fmax - 1.0;
+      const bool pass = std::abs(e1) <= tol && std::abs(e2) <= tol;
+      all_pass = all_pass && pass;
+      rows.push_back({{"f_hz", r.f_hz},
+                      {"kb_f", r.kb_f},
+                      {"kb_f_expected", r.expected_kb_f},
+                      {"kb_f_error", e1},
+                      {"kb_f_rms", r.kb_f_rms},
+                      {"kb_fmax", r.kb_fmax},
+                      {"kb_fmax_expected", r.expected_kb_fmax},
+                      {"kb_fmax_error", e2},
+                      {"kb_fmax_analog", r.kb_fmax_analog},
+                      {"pass", pass}});
+    }
+    tables.push_back({{"rate_hz", fs}, {"rows", rows}});
+  }
+  out["tables"] = tables;
+  out["pass"] = all_pass;
+  printJson(out);
+  return all_pass ? 0 : 1;
+}
+
+const Registrar kMetrics("metrics", "vibration metrics of a velocity CSV (KB_Fmax, PPV/DIN 4150-3, 1/3 octave)",
+                         metrics);
+const Registrar kDinCheck("din-check", "DIN 45669-1 KB test table computed vs expected", dinCheck);
+
+}  // namespace
+}  // namespace railvib::tool

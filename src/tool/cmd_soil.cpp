@@ -1,0 +1,249 @@
+// railvib_tool soil commands: soil-bench column|damping|throughput|lamb, soil.
+#include <algorithm>
+#include <iostream>
+#include <vector>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "command_registry.hpp"
+#include "railvib/io/csv.hpp"
+#include "railvib/soil/snapshot_io.hpp"
+#include "railvib/soil/soil_model.hpp"
+#include "railvib/soil/verification.hpp"
+#include "tool_common.hpp"
+
+namespace railvib::tool {
+namespace {
+
+using nlohmann::json;
+using namespace railvib::soil;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+int soilBench(const std::vector<std::string>& args) {
+  ArgParser p("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb");
+  p.option("case", "column | damping | throughput | lamb (or give it as first argument)", "");
+  p.option("nx", "throughput: elements along x", "160");
+  p.option("ny", "throughput: elements along y", "80");
+  p.option("nz", "throughput: elements in depth", "30");
+  p.option("steps", "throughput: steps per measurement", "20");
+  p.option("repeat", "throughput: measurements (median reported)", "5");
+  p.option("precision", "float | double | both", "both");
+  p.flag("json", "JSON only on stdout (the default prints JSON too)");
+  std::vector<std::string> rest = args;
+  std::string which;
+  if (!rest.empty() && rest[0].rfind("--", 0) != 0) {
+    which = rest[0];
+    rest.erase(rest.begin());
+  }
+  if (!p.parse(rest)) return 0;
+  if (which.empty()) which = p.get("case");
+  const std::string prec = p.get("precision");
+  std::vector<Precision> precisions;
+  if (prec == "float" || prec == "both") precisions.push_back(Precision::Float);
+  if (prec == "double" || prec == "both") precisions.push_back(Precision::Double);
+  if (precisions.empty()) throw ArgError("soil-bench: --precision must be float, double or both");
+  json out;
+  out["case"] = which;
+  if (which == "column") {
+    for (Precision pr : precisions) {
+      ColumnSpec spec;
+      spec.precision = pr;
+      const ColumnResult r = runColumn(spec);
+      out[pr == Precision::Float ? "float" : "double"] = {
+          {"expected_velocity_m_s", r.expected_velocity_m_s}, {"incident_velocity_m_s", r.incident_velocity_m_s},
+          {"velocity_error", r.velocity_error},               {"after_velocity_m_s", r.after_velocity_m_s},
+          {"step_reflection", r.step_reflection},             {"pulse_incident_peak_m_s", r.pulse_incident_peak_m_s},
+          {"pulse_reflected_peak_m_s", r.pulse_reflected_peak_m_s}, {"pulse_reflection", r.pulse_reflection},
+          {"dt_s", r.dt_s},                                   {"elements", r.elements}};
+    }
+  } else if (which == "damping") {
+    json rows = json::array();
+    for (double f : {5.0, 10.0, 25.0, 50.0, 75.0, 100.0}) {
+      const DampingDecayResult r = runDampingDecay(f, 4e-4, 300.0, precisions.front());
+      rows.push_back({{"frequency_hz", r.frequency_hz},
+                      {"measured_ratio", r.measured_ratio},
+                      {"target_ratio", r.target_ratio},
+                      {"relative_error", r.measured_ratio / r.target_ratio - 1.0}});
+    }
+    out["beta_s"] = 4e-4;
+    out["damping_cutoff_hz"] = 300.0;
+    out["modes"] = rows;
+  } else if (which == "throughput") {
+    const size_t nx = static_cast<size_t>(p.getInt("nx")), ny = static_cast<size_t>(p.getInt("ny")),
+                 nz = static_cast<size_t>(p.getInt("nz"));
+    const int steps = static_cast<int>(p.getInt("steps")), repeat = static_cast<int>(p.getInt("repeat"));
+    for (Precision pr : precisions) {
+      json jp;
+      double one = 0.0;
+      for (int threads : {1, 2}) {
+        std::vector<double> rates;
+        for (int rep = 0; rep < repeat; ++rep) rates.push_back(runThroughput(nx, ny, nz, threads, pr, steps).element_updates_per_s);
+        const double med = median(rates);
+        if (threads == 1) one = med;
+        jp["threads_" + std::to_string(threads)] = {{"median_element_updates_per_s", med},
+                                                     {"per_core", med / threads},
+                                                     {"min", *std::min_element(rates.begin(), rates.end())},
+                                                     {"max", *std::max_element(rates.begin(), rates.end())}};
+        if (threads == 2) jp["speedup_2_cores"] = med / one;
+      }
+      out[pr == Precision::Float ? "float" : "double"] = jp;
+    }
+    out["elements"] = nx * ny * nz;
+    out["note"] = "medians over repeats; the machine is shared, figures are noisy";
+  } else {
+    throw ArgError("soil-bench: unknown case '" + which + "' (column | damping | throughput | lamb)");
+  }
+  printJson(out);
+  return 0;
+}
+
+double peakRssGb() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1e6;  // kB -> GB
+  }
+  return 0.0;
+}
+
+int soilRun(const std::vector<std::string>& args) {
+  ArgParser p("soil", "offline 3D soil run: sleeper loads CSV in, receiver velocities + surface snapshots out");
+  addConfigOptions(p);
+  p.option("loads", "soil loads CSV (t_s, sleeper_0, ...; N, downward +, both rails), e.g. passage soil_loads.csv");
+  p.option("sleepers", "sleeper positions CSV (sleeper, x_m); default: sleepers.csv next to --loads, else the "
+                       "track config rule", "auto");
+  p.option("out", "output directory");
+  p.option("duration", "simulated time (s); 0 = simulation.duration_s", "0");
+  if (!p.parse(args)) return 0;
+  if (!p.has("loads") || p.get("loads").empty()) throw ArgError("soil: --loads is required");
+  if (!p.has("out") || p.get("out").empty()) throw ArgError("soil: --out is required");
+  const Config cfg = loadConfig(p);
+  SoilParams params = loadSoilParams(cfg.root());
+  const double duration = p.getDouble("duration") <= 0.0 ? params.duration_s : p.getDouble("duration");
+
+  const io::CsvTable loads = io::readCsv(p.get("loads"));
+  if (loads.columns.empty() || loads.columns[0] != "t_s" || loads.rows.size() < 2) {
+    throw std::runtime_error(p.get("loads") + ": expected columns t_s, sleeper_0, ... and at least 2 rows");
+  }
+  const double rate = 1.0 / (loads.rows[1][0] - loads.rows[0][0]);
+  if (std::abs(loads.rows[0][0]) > 1e-9) throw std::runtime_error(p.get("loads") + ": first sample must be at t = 0");
+  params.load_sample_rate_hz = rate;
+  const size_t ns = loads.columns.size() - 1;
+  std::vector<double> sleeper_x;
+  std::string sleeper_file = p.get("sleepers") == "auto" ? "" : p.get("sleepers");
+  if (sleeper_file.empty()) {
+    const auto sib = std::filesystem::path(p.get("loads")).parent_path() / "sleepers.csv";
+    if (std::filesystem::exists(sib)) sleeper_file = sib.string();
+  }
+  if (!sleeper_file.empty()) {
+    const io::CsvTable sl = io::readCsv(sleeper_file);
+    for (const auto& r : sl.rows) sleeper_x.push_back(r[sl.column("x_m")]);
+  } else {
+    sleeper_x = params.sleeperPositions();
+  }
+  if (sleeper_x.size() != ns) {
+    throw std::runtime_error(p.get("loads") + ": " + std::to_string(ns) + " sleeper columns but " +
+                             std::to_string(sleeper_x.size()) + " sleeper positions");
+  }
+  std::filesystem::create_directories(p.get("out"));
+  const std::string dir = p.get("out");
+
+  const auto wall0 = std::chrono::steady_clock::now();
+  SoilModel model(params, sleeper_x);
+  nlohmann::json summary = model.summary();
+  std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
+            << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
+            << " s (undamped limit " << summary["dt_undamped_limit_s"] << ", naive Rayleigh limit "
+            << summary["dt_naive_rayleigh_limit_s"] << "), memory " << summary["memory_bytes"].get<double>() / 1e9
+            << " GB\n";
+  for (const auto& l : summary["layers"]) {
+    std::cerr << "  layer " << l["top_m"] << "-" << l["bottom_m"] << " m: " << l["levels"] << " levels of "
+              << l["dz_m"] << " m, Vs " << l["vs_m_s"] << " m/s, resolved up to " << l["resolved_hz"] << " Hz\n";
+  }
+  std::vector<double> frame;
+  frame.reserve(loads.rows.size() * ns);
+  for (const auto& r : loads.rows) frame.insert(frame.end(), r.begin() + 1, r.end());
+  model.pushLoads(0, frame.data(), loads.rows.size());
+  model.finishLoads();
+
+  std::vector<std::string> cols{"t_s"};
+  for (const auto& r : model.receivers()) {
+    for (const char* c : {"_vx_m_s", "_vy_m_s", "_vz_m_s"}) cols.push_back(r.name + c);
+  }
+  io::CsvWriter rcsv(dir + "/receivers.csv", cols);
+  std::vector<SurfaceSnapshot> snaps;
+  ReceiverBlock block;
+  std::vector<double> peak(model.receivers().size(), 0.0), tpeak(model.receivers().size(), 0.0);
+  auto drain = [&]() {
+    model.takeReceiverSamples(block);
+    const size_t nr = block.names.size();
+    for (size_t f = 0; f < block.frames(); ++f) {
+      std::vector<double> row{static_cast<double>(block.first_index + f) / block.rate_hz};
+      for (size_t q = 0; q < 3 * nr; ++q) row.push_back(block.velocity_m_s[f * 3 * nr + q]);
+      for (size_t r = 0; r < nr; ++r) {
+        const double vz = std::abs(block.velocity_m_s[f * 3 * nr + 3 * r + 2]);
+        if (vz > peak[r]) {
+          peak[r] = vz;
+          tpeak[r] = row[0];
+        }
+      }
+      rcsv.row(row);
+    }
+    model.takeSnapshots(snaps);
+  };
+  const double chunk = 0.05;
+  double next_report = 0.0;
+  const auto t_step0 = std::chrono::steady_clock::now();
+  while (model.time() < duration - 1e-12) {
+    model.advance(std::min(duration, model.time() + chunk));
+    drain();
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_step0).count();
+    if (el >= next_report || model.time() >= duration - 1e-12) {
+      const double frac = model.time() / duration;
+      std::cerr << "soil: t = " << model.time() << " / " << duration << " s (" << std::round(1000 * frac) / 10
+                << " %), elapsed " << std::round(el) << " s, ETA " << std::round(el * (1 - frac) / std::max(frac, 1e-9))
+                << " s\n";
+      next_report = el + 10.0;
+    }
+  }
+  model.finishOutputs();
+  drain();
+  rcsv.commit();
+  writeSnapshots(dir + "/surface_vz.snap", snaps);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double step_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_step0).count();
+  nlohmann::json peaks = nlohmann::json::object();
+  for (size_t r = 0; r < model.receivers().size(); ++r) {
+    peaks[model.receivers()[r].name] = {{"peak_abs_vz_m_s", peak[r]}, {"t_peak_s", tpeak[r]}};
+  }
+  summary["duration_s"] = duration;
+  summary["steps"] = model.solver().stepCount();
+  summary["wall_s"] = wall;
+  summary["stepping_wall_s"] = step_wall;
+  summary["element_updates_per_s"] = static_cast<double>(model.solver().stepCount()) *
+                                     static_cast<double>(model.solver().mesh().elementCount()) / step_wall;
+  summary["peak_rss_gb"] = peakRssGb();
+  summary["receiver_peaks"] = peaks;
+  summary["load_rate_hz"] = rate;
+  summary["outputs"] = {dir + "/receivers.csv", dir + "/surface_vz.snap", dir + "/summary.json"};
+  {
+    io::AtomicFile f(dir + "/summary.json");
+    f.stream() << summary.dump(2) << "\n";
+    f.commit();
+  }
+  printJson(summary);
+  return 0;
+}
+
+Registrar reg_soil("soil", "offline 3D soil run (loads CSV -> receiver velocities CSV + surface snapshots)", soilRun);
+Registrar reg_bench("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb", soilBench);
+
+}  // namespace
+}  // namespace railvib::tool

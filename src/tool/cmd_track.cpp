@@ -1,0 +1,381 @@
+// railvib_tool track commands: receptance, moving-load, track-bench.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+#include "command_registry.hpp"
+#include "railvib/io/csv.hpp"
+#include "railvib/signal/decimator.hpp"
+#include "railvib/track/track_analysis.hpp"
+#include "railvib/track/track_newmark.hpp"
+#include "railvib/track/track_stepper.hpp"
+#include "tool_common.hpp"
+
+namespace railvib::tool {
+namespace {
+
+using nlohmann::json;
+using track::FoundationModel;
+using track::TrackModel;
+using track::TrackParams;
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << std::setprecision(6) << v;
+  return s.str();
+}
+
+std::vector<double> parseList(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ',')) {
+    try {
+      size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(v) || v <= 0.0) throw std::invalid_argument(item);
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw ArgError("--" + option + ": '" + item + "' is not a positive number");
+    }
+  }
+  if (out.empty()) throw ArgError("--" + option + ": empty list");
+  return out;
+}
+
+/// Config overrides of the common options (--foundation) appended to --set.
+Config loadWithFoundation(const ArgParser& args) {
+  std::vector<std::string> overrides = args.getAll("set");
+  if (args.has("foundation")) overrides.push_back("track.foundation.model=" + args.get("foundation"));
+  return Config::load(args.get("config"), overrides);
+}
+
+double positiveOption(const ArgParser& args, const std::string& name) {
+  const double v = args.getDouble(name);
+  if (!(v > 0.0) || !std::isfinite(v)) throw ArgError("--" + name + " must be > 0");
+  return v;
+}
+
+// ------------------------------------------------------------------ receptance
+int runReceptance(const std::vector<std::string>& argv) {
+  ArgParser args("receptance",
+                 "direct point receptance of the rail (m/N) from the track model's M, C, K; CSV f_hz,re,im,abs");
+  addConfigOptions(args);
+  args.option("foundation", "clm | winkler | rigid (default: track.foundation.model)")
+      .option("at", "midspan | sleeper (the sleeper nearest x = 0, or the midspan after it)", "sleeper")
+      .option("fmin", "lowest frequency (Hz)", "1")
+      .option("fmax", "highest frequency (Hz)", "500")
+      .option("df", "frequency step (Hz)", "0.5")
+      .option("csv", "output CSV file")
+      .option("vary", "kb | kf: sweep the ballast or foundation stiffness by --factors (others fixed)")
+      .option("factors", "comma-separated stiffness factors of --vary", "0.5,0.75,1,1.5,2");
+  if (!args.parse(argv)) return 0;
+  if (!args.has("csv")) throw ArgError("receptance: --csv OUT is required");
+  const std::string at = args.get("at");
+  if (at != "midspan" && at != "sleeper") throw ArgError("--at must be midspan or sleeper");
+  const double fmin = positiveOption(args, "fmin"), fmax = positiveOption(args, "fmax"),
+               df = positiveOption(args, "df");
+  if (fmax <= fmin) throw ArgError("--fmax must be greater than --fmin");
+  if ((fmax - fmin) / df > 200000) throw ArgError("--df too small: more than 200000 frequencies");
+  std::string vary = args.has("vary") ? args.get("vary") : "";
+  if (!vary.empty() && vary != "kb" && vary != "kf") throw ArgError("--vary must be kb or kf");
+  const std::vector<double> factors = vary.empty() ? std::vector<double>{1.0} : parseList(args.get("factors"), "factors");
+
+  const Config cfg = loadWithFoundation(args);
+  const TrackParams base = track::loadTrackParams(cfg.section("track"));
+  std::vector<double> f;
+  for (long i = 0;; ++i) {
+    const double v = fmin + static_cast<double>(i) * df;
+    if (v > fmax + 1e-9 * df) break;
+    f.push_back(v);
+  }
+  // Position: the sleeper nearest x = 0 (inside the rail), or the midspan after it.
+  const TrackModel probe(base);
+  const auto& xs = probe.sleeperPositions();
+  size_t i0 = 0;
+  for (size_t i = 0; i < xs.size(); ++i) {
+    if (std::abs(xs[i]) < std::abs(xs[i0])) i0 = i;
+  }
+  i0 = std::min(i0, xs.size() - 2);
+  const double x = at == "sleeper" ? xs[i0] : xs[i0] + 0.5 * base.sleeper_spacing_m;
+  const double fpp = track::pinnedPinnedFrequency(base);
+
+  std::vector<std::string> columns{"f_hz"};
+  auto suffix = [&](double factor) { return vary.empty() ? std::string() : "_" + vary + "_x" + fmt(factor); };
+  for (double factor : factors) {
+    for (const char* c : {"re", "im", "abs"}) columns.push_back(c + suffix(factor));
+  }
+  std::vector<std::vector<std::complex<double>>> curves;
+  json runs = json::array();
+  for (double factor : factors) {
+    TrackParams p = base;
+    if (vary == "kb") p.ballast_stiffness_n_m *= factor;  // Winkler k_f stays at its nominal value
+    if (vary == "kf") {
+      p.clm.stiffness_n_m *= factor;
+      p.winkler.stiffness_n_m *= factor;
+    }
+    const TrackModel model(p);
+    curves.push_back(model.receptance(x, f));
+    const Eigen::VectorXd u = model.staticDeflection({{x, 1.0}});
+    json peaks = json::array();
+    int resonance = 0;
+    for (const auto& pk : track::findPeaks(f, curves.back())) {
+      std::string kind;
+      if (pk.frequency_hz > 0.8 * fpp && pk.frequency_hz < 1.2 * fpp) {
+        kind = "pinned_pinned";
+      } else if (pk.frequency_hz < 0.8 * fpp) {
+        kind = resonance == 0 ? (p.foundation == FoundationModel::Clm ? "in_phase_rail_ballast_foundation"
+                                                                       : "in_phase_rail_sleeper")
+               : resonance == 1 ? "out_of_phase_rail_ballast"
+                                : "other";
+        ++resonance;
+      } else {
+        kind = "other";
+      }
+      peaks.push_back({{"frequency_hz", pk.frequency_hz}, {"magnitude_m_n", pk.magnitude_m_n}, {"mode", kind}});
+    }
+    json run = {{"static_receptance_m_n", model.railPoint(x).displacement(u)}, {"peaks", peaks}};
+    if (!vary.empty()) {
+      run["factor"] = factor;
+      run[vary == "kb" ? "ballast_stiffness_n_m" : "foundation_stiffness_n_m"] =
+          vary == "kb" ? p.ballast_stiffness_n_m
+                       : (p.foundation == FoundationModel::Clm ? p.clm.stiffness_n_m : p.winkler.stiffness_n_m);
+    }
+    runs.push_back(run);
+  }
+  io::CsvWriter csv(args.get("csv"), columns);
+  std::vector<double> row(columns.size());
+  for (size_t i = 0; i < f.size(); ++i) {
+    row[0] = f[i];
+    for (size_t k = 0; k < curves.size(); ++k) {
+      row[1 + 3 * k] = curves[k][i].real();
+      row[2 + 3 * k] = curves[k][i].imag();
+      row[3 + 3 * k] = std::abs(curves[k][i]);
+    }
+    csv.row(row);
+  }
+  csv.commit();
+  json summary = {{"command", "receptance"},
+                  {"foundation", track::foundationName(base.foundation)},
+                  {"at", at},
+                  {"x_m", x},
+                  {"f_pinned_pinned_hz", fpp},
+                  {"frequencies", f.size()},
+                  {"csv", args.get("csv")}};
+  if (vary.empty()) {
+    summary["static_receptance_m_n"] = runs[0]["static_receptance_m_n"];
+    summary["peaks"] = runs[0]["peaks"];
+  } else {
+    summary["vary"] = vary;
+    summary["runs"] = runs;
+  }
+  printJson(summary);
+  return 0;
+}
+
+// ------------------------------------------------------------------ moving-load
+int runMovingLoad(const std::vector<std::string>& argv) {
+  ArgParser args("moving-load",
+                 "constant moving loads on the track; ballast-to-soil loads per sleeper (both rails) to CSV");
+  addConfigOptions(args);
+  args.option("foundation", "clm | winkler | rigid (default: track.foundation.model)")
+      .option("load", "force per wheel and rail (N) at every axle (default: T2000 static wheel loads)")
+      .option("single", "one load only (at the front axle position) instead of the T2000 axles: yes|no", "no")
+      .option("speed", "speed (m/s) (default: simulation.speed_m_s)")
+      .option("duration", "simulated time (s) (default: simulation.duration_s)")
+      .option("start", "front axle position at t = 0 (m) (default: simulation.front_axle_start_m)")
+      .option("dt", "time step (s) (default: simulation.time_step_s)")
+      .option("rate", "output sample rate (Hz), anti-alias decimated (default: track.output.load_sample_rate_hz)")
+      .option("csv", "output CSV: t_s, then one column per sleeper (x_<position>), N downward, both rails");
+  if (!args.parse(argv)) return 0;
+  if (!args.has("csv")) throw ArgError("moving-load: --csv OUT is required");
+  const Config cfg = loadWithFoundation(args);
+  const ConfigNode root = cfg.root();
+  const TrackParams params = track::loadTrackParams(cfg.section("track"));
+  const ConfigNode sim = cfg.section("simulation");
+  const double speed = args.has("speed") ? args.getDouble("speed") : sim.number("speed_m_s", Range::nonNegative());
+  const double duration =
+      args.has("duration") ? positiveOption(args, "duration") : sim.number("duration_s", Range::positive());
+  const double start =
+      args.has("start") ? args.getDouble("start") : sim.number("front_axle_start_m", Range::open(-1e5, 1e5));
+  const double dt = args.has("dt") ? positiveOption(args, "dt") : sim.number("time_step_s", Range::open(0.0, 1.0));
+  const double rate = args.has("rate") ? positiveOption(args, "rate") : params.load_sample_rate_hz;
+  if (!std::isfinite(speed) || speed < 0.0) throw ArgError("--speed must be >= 0");
+  if (rate > 1.0 / dt * (1.0 + 1e-9)) throw ArgError("--rate must not exceed the step rate 1/dt");
+  const bool single = args.get("single") == "yes";
+
+  track::MovingLoadRun run;
+  run.dt_s = dt;
+  run.duration_s = duration;
+  run.front_start_m = start;
+  run.speed_m_s = speed;
+  std::string load_source;
+  if (single) {
+    run.offsets_behind_m = {0.0};
+  } else {
+    run.offsets_behind_m = root.section("vehicle").numbers("axle_offsets_m", Range::nonNegative(), 1, 64);
+  }
+  if (args.has("load")) {
+    const double load = args.getDouble("load");
+    if (!std::isfinite(load)) throw ArgError("--load must be finite");
+    run.forces_n.assign(run.offsets_behind_m.size(), load);
+    load_source = "--load";
+  } else {
+    const std::vector<double> wheel = track::staticWheelLoadsPerRail(root.section("vehicle"));
+    run.forces_n.assign(run.offsets_behind_m.size(), wheel.front());
+    load_source = "T2000 static: total mass * g / (2 * axles), per wheel and rail";
+  }
+  const TrackModel model(params);
+  const size_t ns = static_cast<size_t>(model.sleeperCount());
+  std::vector<std::string> columns{"t_s"};
+  for (double x : model.sleeperPositions()) columns.push_back("x_" + fmt(x));
+
+  const double step_rate = 1.0 / dt;
+  const bool decimate = rate < step_rate * (1.0 - 1e-9);
+  std::unique_ptr<signal::Decimator> dec;
+  if (decimate) dec = std::make_unique<signal::Decimator>(signal::DecimatorSpec{step_rate, rate}, ns, 0.0);
+
+  io::CsvWriter csv(args.get("csv"), columns);
+  std::vector<double> frame(ns), out, row(ns + 1);
+  size_t rows = 0;
+  double peak = 0.0, worst_sum = 0.0;
+  const double applied = 2.0 * std::accumulate(run.forces_n.begin(), run.forces_n.end(), 0.0);
+  auto emit = [&](const std::vector<double>& data) {
+    for (size_t k = 0; k + ns <= data.size(); k += ns) {
+      row[0] = decimate ? dec->outputTime(rows) : static_cast<double>(rows) * dt;
+      std::copy(data.begin() + static_cast<long>(k), data.begin() + static_cast<long>(k + ns), row.begin() + 1);
+      csv.row(row);
+      ++rows;
+    }
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  track::simulateMovingLoads(model, run, [&](double t, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (size_t i = 0; i < ns; ++i) {
+      frame[i] = 2.0 * b[i];
+      sum += frame[i];
+      peak = std::max(peak, std::abs(frame[i]));
+    }
+    if (t > 0.5 && applied != 0.0) worst_sum = std::max(worst_sum, std::abs(sum / applied - 1.0));
+    if (decimate) {
+      out.clear();
+      dec->push(frame.data(), 1, out);
+      emit(out);
+    } else {
+      emit(frame);
+    }
+  });
+  if (decimate) {
+    out.clear();
+    dec->flush(out);
+    emit(out);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  csv.commit();
+  const long steps = static_cast<long>(std::llround(duration / dt));
+  printJson({{"command", "moving-load"},
+             {"foundation", track::foundationName(params.foundation)},
+             {"sleepers", ns},
+             {"sleeper_x_range_m", {model.sleeperPositions().front(), model.sleeperPositions().back()}},
+             {"loads_per_rail_n", run.forces_n},
+             {"load_source", load_source},
+             {"axle_offsets_m", run.offsets_behind_m},
+             {"speed_m_s", speed},
+             {"duration_s", duration},
+             {"time_step_s", dt},
+             {"steps", steps},
+             {"output_rate_hz", decimate ? rate : step_rate},
+             {"rows", rows},
+             {"csv", args.get("csv")},
+             {"peak_soil_load_n", peak},
+             {"max_rel_error_sum_soil_loads_vs_applied_after_0_5_s", worst_sum},
+             {"wall_time_s", wall},
+             {"us_per_step", 1e6 * wall / static_cast<double>(std::max(1L, steps))}});
+  return 0;
+}
+
+// ------------------------------------------------------------------ track-bench
+double medianOf(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+int runTrackBench(const std::vector<std::string>& argv) {
+  ArgParser args("track-bench", "time per Newmark step of the track alone (100 m track), microseconds");
+  addConfigOptions(args);
+  args.option("foundation", "clm | winkler | rigid (default: track.foundation.model)")
+      .option("length", "track length (m), centred on x = 0", "100")
+      .option("dt", "time step (s)", "1e-5")
+      .option("steps", "steps per repeat", "20000")
+      .option("repeats", "repeats (the median is reported)", "5");
+  if (!args.parse(argv)) return 0;
+  const double length = positiveOption(args, "length");
+  std::vector<std::string> overrides = args.getAll("set");
+  if (args.has("foundation")) overrides.push_back("track.foundation.model=" + args.get("foundation"));
+  overrides.push_back("track.extent.x_min_m=" + fmt(-0.5 * length));
+  overrides.push_back("track.extent.x_max_m=" + fmt(0.5 * length));
+  const Config cfg = Config::load(args.get("config"), overrides);
+  const TrackParams params = track::loadTrackParams(cfg.section("track"));
+  const double dt = positiveOption(args, "dt");
+  const long steps = args.getInt("steps"), repeats = args.getInt("repeats");
+  if (steps < 1 || repeats < 1) throw ArgError("--steps and --repeats must be >= 1");
+  const TrackModel model(params);
+  const std::vector<double> offsets{0.0, 1.6667, 7.5, 9.1667, 15.0, 16.6667};
+  json solvers = json::array();
+  for (auto kind : {track::TrackSolverKind::EigenSimplicialLLT, track::TrackSolverKind::CholmodSupernodalLLT}) {
+    track::TrackNewmark nm(model, dt, kind);
+    std::vector<double> plain, coupled;
+    std::vector<track::PointLoad> loads(offsets.size());
+    std::vector<track::RailPoint> pts(offsets.size());
+    std::vector<double> forces(offsets.size(), 26e3);
+    for (long r = 0; r < repeats; ++r) {
+      nm.setStaticEquilibrium({});
+      auto t0 = std::chrono::steady_clock::now();
+      for (long n = 0; n < steps; ++n) {
+        const double front = 5.0 + 8.33 * dt * static_cast<double>(n);
+        for (size_t k = 0; k < offsets.size(); ++k) loads[k] = {front - offsets[k], 26e3};
+        nm.step(loads);
+      }
+      auto t1 = std::chrono::steady_clock::now();
+      plain.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / static_cast<double>(steps));
+      t0 = std::chrono::steady_clock::now();
+      for (long n = 0; n < steps; ++n) {
+        const double front = 5.0 + 8.33 * dt * static_cast<double>(n);
+        for (size_t k = 0; k < offsets.size(); ++k) pts[k] = model.railPoint(front - offsets[k]);
+        nm.predict();
+        nm.setContactPoints(pts);
+        nm.commitContact(forces);
+      }
+      t1 = std::chrono::steady_clock::now();
+      coupled.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / static_cast<double>(steps));
+    }
+    solvers.push_back(
+        {{"solver", kind == track::TrackSolverKind::EigenSimplicialLLT ? "eigen_simplicial_llt" : "cholmod_supernodal_llt"},
+         {"us_per_step_moving_loads_median", medianOf(plain)},
+         {"us_per_coupled_step_6_contacts_median", medianOf(coupled)},
+         {"us_per_step_all", plain},
+         {"us_per_coupled_step_all", coupled}});
+  }
+  printJson({{"command", "track-bench"},
+             {"foundation", track::foundationName(params.foundation)},
+             {"length_m", model.railEnd() - model.railStart()},
+             {"dofs", model.dofCount()},
+             {"sleepers", model.sleeperCount()},
+             {"time_step_s", dt},
+             {"steps", steps},
+             {"repeats", repeats},
+             {"solvers", solvers}});
+  return 0;
+}
+
+const Registrar kReceptance("receptance", "rail point receptance of the track model (CSV + peaks)", runReceptance);
+const Registrar kMovingLoad("moving-load", "constant moving loads: ballast-to-soil loads per sleeper (CSV)",
+                            runMovingLoad);
+const Registrar kTrackBench("track-bench", "microseconds per Newmark step of the track (100 m)", runTrackBench);
+
+}  // namespace
+}  // namespace railvib::tool

@@ -1,0 +1,121 @@
+// KB weighting against the DIN 45669-1 test values, DIN 4150-2 verdict,
+// DIN 4150-3 guideline line, PPV and dominant frequency.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "railvib/signal/din_check.hpp"
+#include "railvib/signal/vibration.hpp"
+
+using namespace railvib::signal;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+// PHYSICS.md §4: continuous 1 mm/s (amplitude) sine, KB_F = steady mean, KB_Fmax = ripple maximum.
+TEST(KbWeighting, Din45669TestValuesAtSeveralRates) {
+  for (const double fs : {500.0, 1000.0, 2000.0, 8000.0}) {
+    for (const auto& row : din45669TestTable(fs)) {
+      EXPECT_NEAR(row.kb_f, row.expected_kb_f, 0.02 * row.expected_kb_f) << "f = " << row.f_hz << " fs = " << fs;
+      EXPECT_NEAR(row.kb_fmax, row.expected_kb_fmax, 0.02 * row.expected_kb_fmax)
+          << "f = " << row.f_hz << " fs = " << fs;
+      if (fs == 1000.0) {
+        std::printf("fs %.0f Hz  f %5.1f Hz  KB_F %.4f (exp %.3f)  KB_Fmax %.4f (exp %.3f)\n", fs, row.f_hz, row.kb_f,
+                    row.expected_kb_f, row.kb_fmax, row.expected_kb_fmax);
+      }
+    }
+  }
+}
+
+// The test values are the analog weighting: |H| / sqrt(2) and the ripple of an
+// exponential rms; the analog formula itself reproduces them to 3 digits.
+TEST(KbWeighting, AnalogFormulaReproducesTable) {
+  const double f[] = {5.6, 16.0, 31.5, 80.0};
+  const double kbf[] = {0.500, 0.667, 0.693, 0.594};
+  const double kbfmax[] = {0.528, 0.680, 0.700, 0.597};
+  for (int i = 0; i < 4; ++i) {
+    const double mean = std::abs(KbWeighting::analogResponse(f[i])) / std::sqrt(2.0);
+    const double x = 2.0 * 2.0 * kPi * f[i] * 0.125;
+    const double mx = mean * std::sqrt(1.0 + 1.0 / std::sqrt(1.0 + x * x));
+    EXPECT_NEAR(mean, kbf[i], 0.0006);
+    EXPECT_NEAR(mx, kbfmax[i], 0.001);  // 5.6 Hz: 0.5274 vs the printed 0.528
+  }
+}
+
+TEST(KbWeighting, DigitalResponseTracksAnalogInBuildingRange) {
+  for (const double fs : {500.0, 1000.0}) {
+    KbWeighting kb(fs);
+    for (double f = 1.0; f <= 80.0; f *= 1.1) {
+      const double d = std::abs(kb.response(f));
+      const double a = std::abs(KbWeighting::analogResponse(f));
+      EXPECT_NEAR(d / a, 1.0, 0.01) << "f " << f << " fs " << fs;
+    }
+  }
+}
+
+TEST(KbWeighting, BlockAndSampleAgree) {
+  std::vector<double> v(3000);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = std::sin(0.05 * i) + 0.3 * std::sin(0.31 * i);
+  KbWeighting a(1000.0), b(1000.0);
+  std::vector<double> out(v.size());
+  a.process(v.data(), v.size(), out.data());
+  for (size_t i = 0; i < v.size(); ++i) EXPECT_DOUBLE_EQ(b.process(v[i]), out[i]);
+  EXPECT_DOUBLE_EQ(a.kbFmax(), b.kbFmax());
+}
+
+TEST(Din4150_2, GuideValuesAndVerdict) {
+  const auto day = din4150_2Residential(Din4150_2Period::Day);
+  EXPECT_DOUBLE_EQ(day.a_u, 0.15);
+  EXPECT_DOUBLE_EQ(day.a_o, 3.0);
+  EXPECT_DOUBLE_EQ(day.a_r, 0.07);
+  const auto night = din4150_2Residential(Din4150_2Period::Night);
+  EXPECT_DOUBLE_EQ(night.a_u, 0.1);
+  EXPECT_DOUBLE_EQ(night.a_o, 0.2);
+  EXPECT_DOUBLE_EQ(night.a_r, 0.05);
+  EXPECT_TRUE(din4150_2Verdict(0.1, 0.0, Din4150_2Period::Day).met);
+  EXPECT_FALSE(din4150_2Verdict(3.5, 0.0, Din4150_2Period::Day).met);
+  EXPECT_TRUE(din4150_2Verdict(0.5, 0.06, Din4150_2Period::Day).met);
+  EXPECT_FALSE(din4150_2Verdict(0.5, 0.08, Din4150_2Period::Day).met);
+  EXPECT_FALSE(din4150_2Verdict(0.25, 0.01, Din4150_2Period::Night).met);
+  // KB_FTm of cycles with maxima 0.3 and 0.4: sqrt((0.09 + 0.16) / 2).
+  std::vector<double> kbf(60, 0.1);
+  kbf[10] = 0.3;
+  kbf[40] = 0.4;
+  EXPECT_NEAR(kbFTm(kbf, 1.0, 30.0), std::sqrt(0.125), 1e-12);
+  EXPECT_NEAR(kbFTr(0.2, 4.0 * 3600.0, Din4150_2Period::Day), 0.1, 1e-12);
+}
+
+TEST(Din4150_3, ResidentialLine) {
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(5.0), 5.0);
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(10.0), 5.0);
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(30.0), 10.0);
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(50.0), 15.0);
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(75.0), 17.5);
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(100.0), 20.0);
+  EXPECT_DOUBLE_EQ(din4150_3ResidentialLimitMmS(250.0), 20.0);
+}
+
+TEST(Ppv, SineBurstPeakFrequencyAndVerdict) {
+  // A Hann-windowed 30 Hz burst, 12 mm/s peak on z, 3 mm/s on x: z exceeds the 10 mm/s limit at 30 Hz.
+  const double fs = 1000.0;
+  std::vector<double> x(2000), y(2000, 0.0), z(2000);
+  for (size_t i = 0; i < z.size(); ++i) {
+    const double t = i / fs;
+    const double env = (t > 0.5 && t < 1.5) ? 0.5 - 0.5 * std::cos(2 * kPi * (t - 0.5)) : 0.0;
+    z[i] = 12.0 * env * std::sin(2 * kPi * 30.0 * t);
+    x[i] = 3.0 * env * std::sin(2 * kPi * 30.0 * t + 1.0);
+  }
+  const auto e = evaluatePpv({x, y, z}, fs);
+  ASSERT_EQ(e.components.size(), 3u);
+  EXPECT_NEAR(e.components[2].ppv_mm_s, 12.0, 0.1);  // sampling of the crest at 1 kHz
+  EXPECT_NEAR(e.components[2].frequency_hz, 30.0, 0.3);
+  EXPECT_NEAR(e.components[2].limit_mm_s, 10.0, 0.1);
+  EXPECT_NEAR(e.components[0].frequency_hz, 30.0, 0.3);
+  EXPECT_NEAR(e.max_ratio, 1.2, 0.02);
+  EXPECT_TRUE(e.exceeded);
+  EXPECT_GE(e.vector_peak_mm_s, 12.0);
+  EXPECT_LE(e.vector_peak_mm_s, std::sqrt(12.0 * 12.0 + 3.0 * 3.0));
+  EXPECT_NEAR(spectralPeakFrequency(z, fs), 30.0, 0.6);
+}

@@ -1,0 +1,34 @@
+#include <gtest/gtest.h>
+
+#include "railvib/soil/verification.hpp"
+
+using namespace railvib::soil;
+
+// 1D column under a step pressure: particle velocity q / (rho Vp), no reflection
+// from the Lysmer base (PHYSICS.md §4).
+TEST(SoilColumn, StepVelocityAndBaseReflection) {
+  for (Precision pr : {Precision::Float, Precision::Double}) {
+    ColumnSpec spec;
+    spec.precision = pr;
+    const ColumnResult r = runColumn(spec);
+    EXPECT_LT(std::abs(r.velocity_error), 0.02) << "incident " << r.incident_velocity_m_s;
+    EXPECT_LT(std::abs(r.step_reflection), 0.05);
+    EXPECT_LT(r.pulse_reflection, 0.05);
+    std::printf("column (%s): v/v_expected - 1 = %.2e, step reflection %.2e, pulse reflection %.2e\n",
+                pr == Precision::Float ? "float" : "double", r.velocity_error, r.step_reflection,
+                r.pulse_reflection);
+  }
+}
+
+TEST(SoilColumn, LayeredHalfSpaceMaterial) {
+  // The stiff, nearly incompressible Haren half-space (nu = 0.48, Vp ~ 1430 m/s).
+  ColumnSpec spec;
+  spec.material = {465e6, 1992, 0.48};
+  spec.length_m = 60.0;
+  spec.dz_m = 0.5;
+  spec.receiver_depth_m = 30.0;
+  spec.rise_s = 0.005;
+  const ColumnResult r = runColumn(spec);
+  EXPECT_LT(std::abs(r.velocity_error), 0.02);
+  EXPECT_LT(r.pulse_reflection, 0.05);
+}

@@ -1,0 +1,138 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include "railvib/common/config.hpp"
+#include "railvib/common/sample_stream.hpp"
+#include "railvib/soil/snapshot_io.hpp"
+#include "railvib/soil/soil_model.hpp"
+#include "soil_test_util.hpp"
+
+using namespace railvib::soil;
+using railvib::Config;
+using railvib::ConfigError;
+
+namespace {
+SoilParams smallParams(const std::string& yaml) { return loadSoilParams(Config::fromString(yaml, "test.yaml").root()); }
+
+void expectConfigError(const std::string& yaml, const std::string& fragment) {
+  try {
+    smallParams(yaml);
+    ADD_FAILURE() << "no ConfigError for " << fragment;
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+}  // namespace
+
+TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
+  using railvib::soil::testing::smallScenario;
+  expectConfigError(smallScenario("{thickness_m: 0.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, "
+                                  "poisson_ratio: 0.13}"),
+                    "thickness_m");
+  expectConfigError(smallScenario("{thickness_m: -1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, "
+                                  "poisson_ratio: 0.13}"),
+                    "thickness_m");
+  expectConfigError(smallScenario("{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, "
+                                  "poisson_ratio: 0.5}"),
+                    "poisson_ratio");
+  expectConfigError(smallScenario("{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, "
+                                  "poisson_ratio: 0.6}"),
+                    "poisson_ratio");
+  expectConfigError(smallScenario("{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, "
+                                  "poisson_ratio: 0.13}",
+                                  "", "[{name: far, x_m: 0.0, y_m: 8.0}]"),
+                    "receiver 'far'");
+  // 2 km box at 100 Hz: hundreds of GB.
+  expectConfigError(smallScenario("{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, "
+                                  "poisson_ratio: 0.13}",
+                                  ", max_memory_gb: 12.0, f_max_hz: 100.0, x_min_m: -1000.0, x_max_m: 1000.0, "
+                                  "y_min_m: -1000.0, y_max_m: 1000.0, depth_m: 100.0")
+                        .replace("x_min_m: -4.0, x_max_m: 4.0, y_min_m: -4.0, y_max_m: 4.0, depth_m: 4.0, ", ""),
+                    "max_memory_gb");
+}
+
+TEST(SoilModel, SleeperFootprintLoadsSumToTheSleeperForce) {
+  const SoilParams p = smallParams(railvib::soil::testing::smallScenario());
+  SoilModel model(p, {0.0, 0.72});
+  ASSERT_EQ(model.sleeperCount(), 2u);
+  EXPECT_TRUE(model.droppedSleepers().empty());
+  // Dropped: a sleeper outside the box.
+  SoilModel model2(p, {0.0, 10.0});
+  EXPECT_EQ(model2.droppedSleepers().size(), 1u);
+}
+
+TEST(SoilModel, StreamingInBlocksEqualsOneBlockAndChecksContinuity) {
+  const SoilParams p = smallParams(railvib::soil::testing::smallScenario());
+  const std::vector<double> xs = {-0.72, 0.0, 0.72};
+  const size_t frames = 201;  // 0.1 s at 2 kHz
+  std::vector<double> loads(frames * xs.size());
+  for (size_t f = 0; f < frames; ++f) {
+    for (size_t s = 0; s < xs.size(); ++s) {
+      const double t = f / 2000.0;
+      loads[f * xs.size() + s] = 1e4 * std::exp(-std::pow((t - 0.02 - 0.005 * s) / 0.004, 2));
+    }
+  }
+  auto runModel = [&](size_t block) {
+    SoilModel m(p, xs);
+    ReceiverBlock rb;
+    std::vector<double> all;
+    std::vector<SurfaceSnapshot> snaps;
+    for (size_t f0 = 0; f0 < frames; f0 += block) {
+      const size_t nf = std::min(block, frames - f0);
+      m.pushLoads(f0, &loads[f0 * xs.size()], nf);
+      m.advance(1e9);
+      m.takeReceiverSamples(rb);
+      all.insert(all.end(), rb.velocity_m_s.begin(), rb.velocity_m_s.end());
+    }
+    m.finishLoads();
+    m.advance(0.1);
+    m.finishOutputs();
+    m.takeReceiverSamples(rb);
+    all.insert(all.end(), rb.velocity_m_s.begin(), rb.velocity_m_s.end());
+    m.takeSnapshots(snaps);
+    EXPECT_THROW(m.pushLoads(5, &loads[0], 1), railvib::StreamGapError);
+    return std::make_pair(all, snaps);
+  };
+  const auto a = runModel(frames);
+  const auto b = runModel(17);
+  ASSERT_EQ(a.first.size(), b.first.size());
+  ASSERT_GT(a.first.size(), 3u * 90);
+  double peak = 0.0;
+  for (size_t i = 0; i < a.first.size(); ++i) {
+    EXPECT_DOUBLE_EQ(a.first[i], b.first[i]);
+    peak = std::max(peak, std::abs(a.first[i]));
+  }
+  EXPECT_GT(peak, 0.0);
+  // About 10 snapshots for 0.1 s at 100 Hz, on the surface grid; roundtrip through the binary file.
+  ASSERT_GE(a.second.size(), 9u);
+  const std::string path = ::testing::TempDir() + "/soil_snap_test.snap";
+  writeSnapshots(path, a.second);
+  const auto back = readSnapshots(path);
+  ASSERT_EQ(back.size(), a.second.size());
+  EXPECT_EQ(back[3].vz_up_m_s, a.second[3].vz_up_m_s);
+  EXPECT_DOUBLE_EQ(back[3].time_s, 0.03);
+  std::remove(path.c_str());
+}
+
+TEST(SoilModel, DownwardLoadMovesTheSurfaceDown) {
+  // A slowly applied downward load under the receiver: vertical (up) velocity is negative first.
+  SoilParams p = smallParams(railvib::soil::testing::smallScenario(
+      "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
+      "[{name: s0, x_m: 0.0, y_m: 0.0}]"));
+  p.receivers.resize(1);
+  SoilModel m(p, {0.0});
+  std::vector<double> loads(101);
+  for (size_t f = 0; f < loads.size(); ++f) loads[f] = 1e4 * std::min(1.0, f / 40.0);
+  m.pushLoads(0, loads);
+  m.finishLoads();
+  m.advance(0.02);
+  m.finishOutputs();
+  ReceiverBlock rb;
+  m.takeReceiverSamples(rb);
+  double vmin = 0.0;
+  for (size_t f = 0; f < rb.frames(); ++f) vmin = std::min(vmin, rb.velocity_m_s[3 * f + 2]);
+  EXPECT_LT(vmin, 0.0);
+}
