@@ -135,10 +135,10 @@ int passage(const std::vector<std::string>& args) {
   const std::string track = trackChoice(p);
   if (!p.has("out") || p.get("out").empty()) throw ArgError("passage: --out DIR is required");
   std::vector<std::string> extra;
-  if (!p.get("speed").empty()) extra.push_back("simulation.speed_m_s=" + p.get("speed"));
-  if (!p.get("duration").empty()) extra.push_back("simulation.duration_s=" + p.get("duration"));
-  if (!p.get("dt").empty()) extra.push_back("simulation.time_step_s=" + p.get("dt"));
-  if (!p.get("foundation").empty()) extra.push_back("track.foundation.model=" + p.get("foundation"));
+  if (p.has("speed")) extra.push_back("simulation.speed_m_s=" + p.get("speed"));
+  if (p.has("duration")) extra.push_back("simulation.duration_s=" + p.get("duration"));
+  if (p.has("dt")) extra.push_back("simulation.time_step_s=" + p.get("dt"));
+  if (p.has("foundation")) extra.push_back("track.foundation.model=" + p.get("foundation"));
   const Config cfg = loadWith(p, extra);
   const long every = p.getInt("csv-every");
   if (every < 1) throw ArgError("--csv-every must be >= 1");

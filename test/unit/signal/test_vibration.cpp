@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "railvib/signal/din_check.hpp"
+#include "railvib/signal/monitor.hpp"
 #include "railvib/signal/vibration.hpp"
 
 using namespace railvib::signal;
@@ -118,4 +119,44 @@ TEST(Ppv, SineBurstPeakFrequencyAndVerdict) {
   EXPECT_GE(e.vector_peak_mm_s, 12.0);
   EXPECT_LE(e.vector_peak_mm_s, std::sqrt(12.0 * 12.0 + 3.0 * 3.0));
   EXPECT_NEAR(spectralPeakFrequency(z, fs), 30.0, 0.6);
+}
+
+// The live monitor fed in arbitrary blocks gives exactly the offline record values.
+TEST(VibrationMonitor, LiveEqualsOffline) {
+  const double fs = 1000.0;
+  const size_t n = 4000;
+  std::vector<std::vector<double>> comps(3, std::vector<double>(n));
+  for (size_t i = 0; i < n; ++i) {
+    const double t = i / fs;
+    const double env = std::exp(-std::pow((t - 2.0) / 0.3, 2));
+    comps[0][i] = 1e-4 * env * std::sin(2 * kPi * 12.0 * t);
+    comps[1][i] = 5e-5 * env * std::sin(2 * kPi * 40.0 * t);
+    comps[2][i] = 3e-4 * env * std::sin(2 * kPi * 23.0 * t + 0.4);
+  }
+  MonitorSpec spec;
+  spec.fs_hz = fs;
+  const RecordMetrics offline = evaluateRecord(comps, spec);
+  VibrationMonitor live(spec);
+  std::vector<double> frames;
+  size_t pos = 0, step = 1;
+  while (pos < n) {
+    const size_t b = std::min(n - pos, step);
+    frames.clear();
+    for (size_t i = pos; i < pos + b; ++i)
+      for (size_t c = 0; c < 3; ++c) frames.push_back(comps[c][i]);
+    live.process(frames.data(), b);
+    pos += b;
+    step = step * 3 % 101 + 1;
+  }
+  const auto s = live.snapshot();
+  for (size_t c = 0; c < 3; ++c) {
+    EXPECT_DOUBLE_EQ(s.kb_fmax[c], offline.summary.kb_fmax[c]);
+    EXPECT_DOUBLE_EQ(s.ppv.components[c].ppv_mm_s, offline.summary.ppv.components[c].ppv_mm_s);
+    EXPECT_DOUBLE_EQ(s.third_octave_equivalent_db[c][15], offline.summary.third_octave_equivalent_db[c][15]);
+  }
+  EXPECT_NEAR(s.ppv.components[2].ppv_mm_s, 0.3, 0.003);
+  EXPECT_NEAR(s.ppv.components[2].frequency_hz, 23.0, 0.5);
+  EXPECT_NEAR(offline.spectral_peak_hz[2], 23.0, 0.5);
+  EXPECT_GT(s.kb_fmax_all, 0.0);
+  EXPECT_DOUBLE_EQ(s.kb_fmax_all, s.kb_fmax[2]);
 }
