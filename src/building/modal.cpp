@@ -118,7 +118,8 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
   std::ostringstream os;
   if (slab_e >= wall_e && !best_slab.empty()) {
     // half-wave numbers along the slab's centre lines
-    const double xc = 0.5 * (mesh.x0_m + mesh.x1_m), yc = 0.5 * (mesh.y0_m + mesh.y1_m);
+    // lines at 30 % of the span: off every nodal line of the low (m, n) modes
+    const double xq = mesh.x0_m + 0.3 * (mesh.x1_m - mesh.x0_m), yq = mesh.y0_m + 0.3 * (mesh.y1_m - mesh.y0_m);
     const double tol = 0.51 * mesh.element_size_m;
     std::vector<std::pair<double, double>> along_x, along_y;
     double zslab = 0.0;
@@ -128,8 +129,8 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
       const Eigen::Vector3d& x = mesh.nodes[n];
       if (std::abs(x.z() - zslab) > 1e-9) continue;
       // strongest line parallel to x / y through the slab: use the quarter and centre lines
-      if (std::abs(x.y() - yc) < tol) along_x.emplace_back(x.x(), phi[6 * n + 2]);
-      if (std::abs(x.x() - xc) < tol) along_y.emplace_back(x.y(), phi[6 * n + 2]);
+      if (std::abs(x.y() - yq) < tol) along_x.emplace_back(x.x(), phi[6 * n + 2]);
+      if (std::abs(x.x() - xq) < tol) along_y.emplace_back(x.y(), phi[6 * n + 2]);
     }
     const int mx = signChanges(along_x) + 1;
     const int my = signChanges(along_y) + 1;

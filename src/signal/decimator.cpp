@@ -43,7 +43,8 @@ std::vector<double> designTaps(double fs, double fp, double fstop, double a, int
   double sum = 0.0;
   for (int64_t j = -d; j <= d; ++j) {
     const double tau = static_cast<double>(j) / fs;
-    const double h = 2.0 * fc * sinc(2.0 * fc * tau) * kaiser(static_cast<double>(j) / (static_cast<double>(d) + 1.0), beta);
+    const double h =
+        2.0 * fc * sinc(2.0 * fc * tau) * kaiser(static_cast<double>(j) / (static_cast<double>(d) + 1.0), beta);
     taps[static_cast<size_t>(j + d)] = h;
     sum += h;
   }
@@ -91,11 +92,11 @@ Decimator::Decimator(const DecimatorSpec& spec, size_t channels, double t0_s)
     int best_m1 = 1;
     for (int m1 = 2; m1 < ratio_; ++m1) {
       if (ratio_ % m1 != 0) continue;
-      const double f1 = fi / m1;  // stage-1 output rate
+      const double f1 = fi / m1;           // stage-1 output rate
       const double stop1 = f1 - 0.5 * fo;  // what folds into [0, fo/2] must go
       if (!(stop1 > fp)) continue;
-      const double cost = (2.0 * std::ceil(kaiserHalfWidth(a, stop1 - fp) * fi) + 1.0) * f1 +
-                          (2.0 * std::ceil(t2 * f1) + 1.0) * fo;
+      const double cost =
+          (2.0 * std::ceil(kaiserHalfWidth(a, stop1 - fp) * fi) + 1.0) * f1 + (2.0 * std::ceil(t2 * f1) + 1.0) * fo;
       if (cost < 0.8 * best_cost) {
         best_cost = cost;
         best_m1 = m1;

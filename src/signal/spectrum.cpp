@@ -32,8 +32,8 @@ std::vector<double> windowSamples(Window window, size_t n) {
         w[i] = 0.5 - 0.5 * std::cos(x);
         break;
       case Window::FlatTop:  // ISO 18431-2 / HFT-style 5-term flat top
-        w[i] = 0.21557895 - 0.41663158 * std::cos(x) + 0.277263158 * std::cos(2 * x) -
-               0.083578947 * std::cos(3 * x) + 0.006947368 * std::cos(4 * x);
+        w[i] = 0.21557895 - 0.41663158 * std::cos(x) + 0.277263158 * std::cos(2 * x) - 0.083578947 * std::cos(3 * x) +
+               0.006947368 * std::cos(4 * x);
         break;
     }
   }

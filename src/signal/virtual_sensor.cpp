@@ -14,6 +14,33 @@ MonitorSpec monitorSpecFor(const VirtualSensorSpec& spec) {
 }
 }  // namespace
 
+VirtualSensorConfig loadVirtualSensorConfig(const ConfigNode& root) {
+  const ConfigNode section = root.section("virtual_sensors");
+  VirtualSensorConfig config;
+  config.sample_rate_hz = section.number("sample_rate_hz", Range::closed(10.0, 100000.0));
+  config.metrics_rate_hz = section.number("metrics_rate_hz", Range::closed(0.1, 1000.0));
+  if (config.metrics_rate_hz > config.sample_rate_hz) section.fail("metrics_rate_hz", "must not exceed sample_rate_hz");
+  config.include_gravity = section.flag("include_gravity");
+  config.night = section.choice("din4150_2_period", {"day", "night"}) == "night";
+  const double noise = section.number("noise_rms_m_s2", Range::nonNegative());
+  const long seed = section.integer("noise_seed", 0, 0x7fffffffL);
+  for (const ConfigNode& s : section.sectionList("sensors")) {
+    VirtualSensorSetup setup;
+    setup.spec.name = s.text("name");
+    setup.spec.output_rate_hz = config.sample_rate_hz;
+    setup.spec.noise_rms_m_s2 = s.number("noise_rms_m_s2", Range::nonNegative(), noise);
+    // Each sensor its own reproducible noise: seed + position in the list.
+    setup.spec.noise_seed = static_cast<uint64_t>(seed) + config.sensors.size();
+    setup.source = s.choice("source", {"soil", "building"});
+    setup.point = s.text("point");
+    for (const auto& other : config.sensors) {
+      if (other.spec.name == setup.spec.name) s.fail("name", "duplicate sensor name");
+    }
+    config.sensors.push_back(setup);
+  }
+  return config;
+}
+
 VirtualSensor::VirtualSensor(const VirtualSensorSpec& spec, double t0_s)
     : spec_(spec),
       t0_s_(t0_s),

@@ -120,7 +120,7 @@ int runTf(const std::vector<std::string>& args) {
                    "transfer functions: uniform vertical foundation velocity -> vertical velocity at the response points");
   addConfigOptions(parser);
   parser.option("csv", "output CSV (frequency_hz, <point>_abs, <point>_phase_rad ...)");
-  parser.option("duration", "simulated time after the impulse (s)", "4.0");
+  parser.option("duration", "simulated time after the impulse (s)", "6.0");
   parser.option("dt", "sample period (s)", "1e-3");
   parser.option("fmax", "highest frequency of the transfer functions (Hz)", "60");
   parser.option("df", "frequency step of the DFT (Hz)", "0.05");
@@ -164,7 +164,12 @@ int runTf(const std::vector<std::string>& args) {
     json peaks = json::array();
     for (size_t j = 1; j + 1 < tf.frequency_hz.size(); ++j) {
       const double a = std::abs(tf.tf(j, p));
-      if (a > 1.5 && a >= std::abs(tf.tf(j - 1, p)) && a > std::abs(tf.tf(j + 1, p))) {
+      // a resonance: above 2 and the largest value within +-1 Hz
+      bool is_peak = a > 2.0;
+      for (size_t k = 0; k < tf.frequency_hz.size() && is_peak; ++k)
+        if (k != j && std::abs(tf.frequency_hz[k] - tf.frequency_hz[j]) <= 1.0 && std::abs(tf.tf(k, p)) > a)
+          is_peak = false;
+      if (is_peak) {
         double nearest = 0.0;
         for (const Mode& m : modes.modes)
           if (std::abs(m.frequency_hz - tf.frequency_hz[j]) < std::abs(nearest - tf.frequency_hz[j])) nearest = m.frequency_hz;

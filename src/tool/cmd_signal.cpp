@@ -1,12 +1,14 @@
 // railvib_tool signal commands: metrics (vibration metrics of a CSV record),
 // din-check (DIN 45669-1 KB test table computed vs expected).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <vector>
 
 #include "command_registry.hpp"
 #include "railvib/io/csv.hpp"
+#include "railvib/signal/decimator.hpp"
 #include "railvib/signal/din_check.hpp"
 #include "railvib/signal/monitor.hpp"
 #include "tool_common.hpp"
@@ -102,8 +104,9 @@ int metrics(const std::vector<std::string>& args) {
   const Din4150_2Verdict v42 = din4150_2Verdict(s.kb_fmax_all, kb_ftr, period);
 
   json out;
-  out["input"] = {{"csv", p.get("csv")}, {"columns", names},  {"unit", unit},
-                  {"rate_hz", fs},       {"samples", comps.front().size()}, {"duration_s", duration}};
+  out["input"] = {
+      {"csv", p.get("csv")},   {"columns", names}, {"unit", unit}, {"rate_hz", fs}, {"samples", comps.front().size()},
+      {"duration_s", duration}};
   json kb_comp = json::array();
   json ppv_comp = json::array();
   json oct_comp = json::array();
@@ -120,7 +123,8 @@ int metrics(const std::vector<std::string>& args) {
                         {"ratio_to_limit", pc.ratio}});
     json levels = json::array();
     for (size_t b = 0; b < s.bands.size(); ++b) {
-      levels.push_back({{"nominal_hz", s.bands[b].nominal_hz}, {"level_db", dbValue(s.third_octave_equivalent_db[c][b])}});
+      levels.push_back(
+          {{"nominal_hz", s.bands[b].nominal_hz}, {"level_db", dbValue(s.third_octave_equivalent_db[c][b])}});
     }
     oct_comp.push_back({{"column", names[c]}, {"levels", levels}});
   }
@@ -202,9 +206,70 @@ int dinCheck(const std::vector<std::string>& args) {
   return all_pass ? 0 : 1;
 }
 
+int decimatorCheck(const std::vector<std::string>& args) {
+  ArgParser p("decimator-check",
+              "design figures of the anti-alias decimator: stages, taps, latency, pass-band ripple, stop band, "
+              "time alignment of a pass-band sine, cost");
+  p.option("input-rate", "input rate (Hz)", "100000");
+  p.option("output-rate", "output rate (Hz)", "2000");
+  p.option("passband", "pass band edge as a fraction of the output rate", "0.4");
+  p.option("channels", "channels for the cost measurement", "100");
+  if (!p.parse(args)) return 0;
+  DecimatorSpec spec;
+  spec.input_rate_hz = p.getDouble("input-rate");
+  spec.output_rate_hz = p.getDouble("output-rate");
+  spec.passband_fraction = p.getDouble("passband");
+  const double fi = spec.input_rate_hz, fo = spec.output_rate_hz;
+  Decimator d(spec, 1);
+  double ripple = 0.0, stop = 0.0;
+  for (double f = 0.0; f <= spec.passband_fraction * fo; f += fo / 2000.0) {
+    ripple = std::max(ripple, std::abs(20.0 * std::log10(d.responseMagnitude(f))));
+  }
+  for (double f = 0.5 * fo; f <= 0.5 * fi; f += fo / 997.0) stop = std::max(stop, d.responseMagnitude(f));
+  // Alignment: a sine at 0.37 f_out against its exact values at t_k = t0 + k / f_out.
+  constexpr double kPi = 3.14159265358979323846;
+  const double fsine = 0.37 * fo, t0 = 0.0123;
+  Decimator a(spec, 1, t0);
+  std::vector<double> x(static_cast<size_t>(std::max(2.0, 0.5 * fi))), y;
+  for (size_t i = 0; i < x.size(); ++i) x[i] = std::sin(2.0 * kPi * fsine * (t0 + static_cast<double>(i) / fi));
+  a.push(x, y);
+  double align = 0.0;
+  for (size_t k = static_cast<size_t>(std::ceil(a.halfWidthSeconds() * fo)) + 1; k < y.size(); ++k) {
+    align = std::max(align, std::abs(y[k] - std::sin(2.0 * kPi * fsine * a.outputTime(k))));
+  }
+  // Cost: one simulated second of `channels` channels, blocks of 1000 input frames.
+  const size_t nc = static_cast<size_t>(std::max(1L, p.getInt("channels")));
+  Decimator c(spec, nc);
+  const size_t block = 1000;
+  std::vector<double> in(block * nc, 1.0), out;
+  const auto start = std::chrono::steady_clock::now();
+  for (double done = 0.0; done < fi; done += static_cast<double>(block)) {
+    out.clear();
+    c.push(in, out);
+  }
+  const double cost = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  json out_json = {{"input_rate_hz", fi},
+                   {"output_rate_hz", fo},
+                   {"integer_ratio", d.integerRatio()},
+                   {"stage_ratios", d.stageRatios()},
+                   {"equivalent_taps", d.taps().size()},
+                   {"latency_input_samples", d.latencyInputSamples()},
+                   {"latency_s", d.halfWidthSeconds()},
+                   {"passband_ripple_db", ripple},
+                   {"stopband_db", 20.0 * std::log10(stop)},
+                   {"sine_hz", fsine},
+                   {"alignment_max_error", align},
+                   {"channels", nc},
+                   {"cpu_s_per_simulated_s", cost}};
+  printJson(out_json);
+  return 0;
+}
+
 const Registrar kMetrics("metrics", "vibration metrics of a velocity CSV (KB_Fmax, PPV/DIN 4150-3, 1/3 octave)",
                          metrics);
 const Registrar kDinCheck("din-check", "DIN 45669-1 KB test table computed vs expected", dinCheck);
+const Registrar kDecimatorCheck("decimator-check", "anti-alias decimator design figures (ripple, stop band, latency)",
+                                decimatorCheck);
 
 }  // namespace
 }  // namespace railvib::tool

@@ -10,6 +10,7 @@
 
 #include "command_registry.hpp"
 #include "railvib/io/csv.hpp"
+#include "railvib/soil/lamb.hpp"
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "railvib/soil/verification.hpp"
@@ -35,6 +36,10 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("steps", "throughput: steps per measurement", "20");
   p.option("repeat", "throughput: measurements (median reported)", "5");
   p.option("precision", "float | double | both", "both");
+  p.option("small-box", "reflection: half width and depth of the small box (m)", "10");
+  p.option("layer", "reflection: absorbing layer thickness (m)", "2.5");
+  p.option("lamb-h", "lamb: element size (m)", "");
+  p.option("csv", "lamb: write FE and analytic curves to this CSV", "");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
   std::vector<std::string> rest = args;
   std::string which;
@@ -97,6 +102,62 @@ int soilBench(const std::vector<std::string>& args) {
     }
     out["elements"] = nx * ny * nz;
     out["note"] = "medians over repeats; the machine is shared, figures are noisy";
+  } else if (which == "reflection") {
+    json rows = json::array();
+    for (double alpha : {100.0, 300.0, 600.0}) {
+      const ReflectionResult r = runBoundaryReflection(p.getDouble("small-box"), p.getDouble("layer"), alpha);
+      rows.push_back({{"r_m", r.r_m},
+                      {"window_s", r.window_s},
+                      {"lysmer_only", r.lysmer_only},
+                      {"with_layer", r.with_layer},
+                      {"layer_m", r.layer_m},
+                      {"layer_alpha_1_s", r.layer_alpha_1_s}});
+    }
+    out["runs"] = rows;
+    out["note"] = "max |w_small_box - w_reference_box| / max |w_reference| at r, Lamb Hann pulse";
+  } else if (which == "lamb") {
+    LambSpec spec;
+    spec.precision = precisions.front();
+    if (p.has("lamb-h") && !p.get("lamb-h").empty()) spec.h_m = p.getDouble("lamb-h");
+    const LambResult r = runLamb(spec);
+    json st = json::array();
+    for (const auto& s : r.stations) {
+      st.push_back({{"r_m", s.r_m},
+                    {"t_p_fe_s", s.t_p_fe_s},
+                    {"t_p_analytic_s", s.t_p_an_s},
+                    {"t_p_error", s.t_p_fe_s / s.t_p_an_s - 1.0},
+                    {"t_rayleigh_peak_fe_s", s.t_r_fe_s},
+                    {"t_rayleigh_peak_analytic_s", s.t_r_an_s},
+                    {"t_rayleigh_error", s.t_r_fe_s / s.t_r_an_s - 1.0},
+                    {"peak_fe_m", s.peak_fe_m},
+                    {"peak_analytic_m", s.peak_an_m},
+                    {"peak_error", s.peak_fe_m / s.peak_an_m - 1.0},
+                    {"elements_per_rayleigh_wavelength", s.elements_per_rayleigh_wavelength}});
+    }
+    out["stations"] = st;
+    out["elements"] = r.elements;
+    out["dt_s"] = r.dt_s;
+    out["material"] = {{"vs_m_s", spec.material.vs()}, {"vp_m_s", spec.material.vp()}, {"vr_m_s", spec.material.vr()},
+                       {"poisson_ratio", spec.material.poisson_ratio}};
+    out["h_m"] = spec.h_m;
+    out["rise_s"] = spec.rise_s;
+    if (p.has("csv") && !p.get("csv").empty()) {
+      std::vector<std::string> cols{"t_s"};
+      for (const auto& s : r.stations) {
+        cols.push_back("w_fe_r" + std::to_string(s.r_m) + "_m");
+        cols.push_back("w_analytic_r" + std::to_string(s.r_m) + "_m");
+      }
+      io::CsvWriter csv(p.get("csv"), cols);
+      for (size_t i = 0; i < r.t_s.size(); ++i) {
+        std::vector<double> row{r.t_s[i]};
+        for (size_t k = 0; k < r.stations.size(); ++k) {
+          row.push_back(r.w_fe[k][i]);
+          row.push_back(r.w_an[k][i]);
+        }
+        csv.row(row);
+      }
+      csv.commit();
+    }
   } else {
     throw ArgError("soil-bench: unknown case '" + which + "' (column | damping | throughput | lamb)");
   }
@@ -243,7 +304,7 @@ int soilRun(const std::vector<std::string>& args) {
 }
 
 Registrar reg_soil("soil", "offline 3D soil run (loads CSV -> receiver velocities CSV + surface snapshots)", soilRun);
-Registrar reg_bench("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb", soilBench);
+Registrar reg_bench("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb | reflection", soilBench);
 
 }  // namespace
 }  // namespace railvib::tool

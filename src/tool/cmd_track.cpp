@@ -1,4 +1,6 @@
 // railvib_tool track commands: receptance, moving-load, track-bench.
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -83,7 +85,8 @@ int runReceptance(const std::vector<std::string>& argv) {
   if ((fmax - fmin) / df > 200000) throw ArgError("--df too small: more than 200000 frequencies");
   std::string vary = args.has("vary") ? args.get("vary") : "";
   if (!vary.empty() && vary != "kb" && vary != "kf") throw ArgError("--vary must be kb or kf");
-  const std::vector<double> factors = vary.empty() ? std::vector<double>{1.0} : parseList(args.get("factors"), "factors");
+  const std::vector<double> factors =
+      vary.empty() ? std::vector<double>{1.0} : parseList(args.get("factors"), "factors");
 
   const Config cfg = loadWithFoundation(args);
   const TrackParams base = track::loadTrackParams(cfg.section("track"));
@@ -128,8 +131,8 @@ int runReceptance(const std::vector<std::string>& argv) {
       if (pk.frequency_hz > 0.8 * fpp && pk.frequency_hz < 1.2 * fpp) {
         kind = "pinned_pinned";
       } else if (pk.frequency_hz < 0.8 * fpp) {
-        kind = resonance == 0 ? (p.foundation == FoundationModel::Clm ? "in_phase_rail_ballast_foundation"
-                                                                       : "in_phase_rail_sleeper")
+        kind = resonance == 0   ? (p.foundation == FoundationModel::Clm ? "in_phase_rail_ballast_foundation"
+                                                                        : "in_phase_rail_sleeper")
                : resonance == 1 ? "out_of_phase_rail_ballast"
                                 : "other";
         ++resonance;
@@ -299,6 +302,13 @@ int runMovingLoad(const std::vector<std::string>& argv) {
 }
 
 // ------------------------------------------------------------------ track-bench
+/// CPU time of this thread (s): robust against other processes sharing the cores.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 double medianOf(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -328,12 +338,13 @@ int runTrackBench(const std::vector<std::string>& argv) {
   json solvers = json::array();
   for (auto kind : {track::TrackSolverKind::EigenSimplicialLLT, track::TrackSolverKind::CholmodSupernodalLLT}) {
     track::TrackNewmark nm(model, dt, kind);
-    std::vector<double> plain, coupled;
+    std::vector<double> plain, coupled, plain_cpu, coupled_cpu;
     std::vector<track::PointLoad> loads(offsets.size());
     std::vector<track::RailPoint> pts(offsets.size());
     std::vector<double> forces(offsets.size(), 26e3);
     for (long r = 0; r < repeats; ++r) {
       nm.setStaticEquilibrium({});
+      double c0 = threadCpuSeconds();
       auto t0 = std::chrono::steady_clock::now();
       for (long n = 0; n < steps; ++n) {
         const double front = 5.0 + 8.33 * dt * static_cast<double>(n);
@@ -341,7 +352,9 @@ int runTrackBench(const std::vector<std::string>& argv) {
         nm.step(loads);
       }
       auto t1 = std::chrono::steady_clock::now();
+      plain_cpu.push_back(1e6 * (threadCpuSeconds() - c0) / static_cast<double>(steps));
       plain.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / static_cast<double>(steps));
+      c0 = threadCpuSeconds();
       t0 = std::chrono::steady_clock::now();
       for (long n = 0; n < steps; ++n) {
         const double front = 5.0 + 8.33 * dt * static_cast<double>(n);
@@ -351,14 +364,17 @@ int runTrackBench(const std::vector<std::string>& argv) {
         nm.commitContact(forces);
       }
       t1 = std::chrono::steady_clock::now();
+      coupled_cpu.push_back(1e6 * (threadCpuSeconds() - c0) / static_cast<double>(steps));
       coupled.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / static_cast<double>(steps));
     }
-    solvers.push_back(
-        {{"solver", kind == track::TrackSolverKind::EigenSimplicialLLT ? "eigen_simplicial_llt" : "cholmod_supernodal_llt"},
-         {"us_per_step_moving_loads_median", medianOf(plain)},
-         {"us_per_coupled_step_6_contacts_median", medianOf(coupled)},
-         {"us_per_step_all", plain},
-         {"us_per_coupled_step_all", coupled}});
+    solvers.push_back({{"solver", kind == track::TrackSolverKind::EigenSimplicialLLT ? "eigen_simplicial_llt"
+                                                                                     : "cholmod_supernodal_llt"},
+                       {"us_per_step_moving_loads_median", medianOf(plain)},
+                       {"us_per_coupled_step_6_contacts_median", medianOf(coupled)},
+                       {"cpu_us_per_step_moving_loads_median", medianOf(plain_cpu)},
+                       {"cpu_us_per_coupled_step_6_contacts_median", medianOf(coupled_cpu)},
+                       {"us_per_step_all", plain},
+                       {"us_per_coupled_step_all", coupled}});
   }
   printJson({{"command", "track-bench"},
              {"foundation", track::foundationName(params.foundation)},

@@ -12,28 +12,74 @@ struct TrackNewmark::Solver {
   TrackSolverKind kind;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> eigen_llt;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
-  Eigen::VectorXd work;
+  // Plain CSC copy of the Eigen factor for tight, allocation-free triangular
+  // solves: column j holds L_jj first (stored as 1/L_jj), then rows i > j.
+  std::vector<int> col_ptr, row_idx, perm;
+  std::vector<double> val;
+  mutable Eigen::VectorXd work;
 
   explicit Solver(TrackSolverKind k) : kind(k) {}
   bool factorize(const Eigen::SparseMatrix<double>& A) {
     if (kind == TrackSolverKind::EigenSimplicialLLT) {
       eigen_llt.compute(A);
-      return eigen_llt.info() == Eigen::Success;
+      if (eigen_llt.info() != Eigen::Success) return false;
+      const Eigen::SparseMatrix<double> L = eigen_llt.matrixL();
+      const int n = static_cast<int>(L.rows());
+      col_ptr.assign(n + 1, 0);
+      row_idx.clear();
+      val.clear();
+      for (int j = 0; j < n; ++j) {
+        double diag = 0.0;
+        std::vector<std::pair<int, double>> below;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(L, j); it; ++it) {
+          if (it.row() == j) {
+            diag = it.value();
+          } else if (it.row() > j) {
+            below.emplace_back(static_cast<int>(it.row()), it.value());
+          }
+        }
+        if (!(diag > 0.0)) return false;
+        row_idx.push_back(j);
+        val.push_back(1.0 / diag);
+        for (const auto& [i, v] : below) {
+          row_idx.push_back(i);
+          val.push_back(v);
+        }
+        col_ptr[j + 1] = static_cast<int>(row_idx.size());
+      }
+      perm.resize(n);
+      const auto& P = eigen_llt.permutationP().indices();
+      for (int i = 0; i < n; ++i) perm[i] = P.size() ? P[i] : i;
+      work.resize(n);
+      return true;
     }
     cholmod.compute(A);
     return cholmod.info() == Eigen::Success;
   }
-  void solveInPlace(Eigen::VectorXd& x) {
-    if (kind == TrackSolverKind::EigenSimplicialLLT) {
-      // P^T L L^T P x = b, solved in place without allocation.
-      work.resize(x.size());
-      work.noalias() = eigen_llt.permutationP() * x;
-      eigen_llt.matrixL().solveInPlace(work);
-      eigen_llt.matrixU().solveInPlace(work);
-      x.noalias() = eigen_llt.permutationPinv() * work;
-    } else {
+  void solveInPlace(Eigen::VectorXd& x) const {
+    if (kind != TrackSolverKind::EigenSimplicialLLT) {
       x = cholmod.solve(x).eval();
+      return;
     }
+    // A = P^T L L^T P: y = P x; L z = y; L^T w = z; x = P^T w.
+    const int n = static_cast<int>(x.size());
+    double* y = work.data();
+    const int* cp = col_ptr.data();
+    const int* ri = row_idx.data();
+    const double* lv = val.data();
+    for (int i = 0; i < n; ++i) y[perm[i]] = x[i];
+    for (int j = 0; j < n; ++j) {
+      const double yj = (y[j] *= lv[cp[j]]);
+      if (yj != 0.0) {
+        for (int p = cp[j] + 1; p < cp[j + 1]; ++p) y[ri[p]] -= lv[p] * yj;
+      }
+    }
+    for (int j = n - 1; j >= 0; --j) {
+      double s = y[j];
+      for (int p = cp[j] + 1; p < cp[j + 1]; ++p) s -= lv[p] * y[ri[p]];
+      y[j] = s * lv[cp[j]];
+    }
+    for (int i = 0; i < n; ++i) x[i] = y[perm[i]];
   }
 };
 
@@ -64,8 +110,7 @@ TrackNewmark::~TrackNewmark() = default;
 
 void TrackNewmark::solveInPlace(Eigen::VectorXd& x) const { solver_->solveInPlace(x); }
 
-void TrackNewmark::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
-                            double t_s) {
+void TrackNewmark::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t_s) {
   const Eigen::Index n = model_.dofCount();
   if (u.size() != n || v.size() != n || a.size() != n) throw std::invalid_argument("TrackNewmark: state size");
   u_ = u;
@@ -106,31 +151,45 @@ void TrackNewmark::predict(const Eigen::VectorXd& other_external_force_next) {
   points_.clear();
 }
 
+const Eigen::VectorXd& TrackNewmark::inverseColumn(Eigen::Index d) const {
+  const Eigen::Index n = model_.dofCount();
+  if (columns_.empty()) columns_.resize(static_cast<size_t>(n));
+  Eigen::VectorXd& col = columns_[static_cast<size_t>(d)];
+  if (col.size() == 0) {
+    // Bound the cache (~256 MB); columns are recomputed on demand after a reset.
+    if ((cached_columns_ + 1) * static_cast<size_t>(n) * sizeof(double) > (size_t{256} << 20)) {
+      for (auto& c : columns_) c.resize(0);
+      cached_columns_ = 0;
+    }
+    col.setZero(n);
+    col[d] = 1.0;
+    solveInPlace(col);
+    ++cached_columns_;
+  }
+  return col;
+}
+
 void TrackNewmark::solveUnitLoad(const RailPoint& p, Eigen::VectorXd& out) const {
   out.setZero(model_.dofCount());
-  p.addLoad(1.0, out);
-  solveInPlace(out);
+  for (int k = 0; k < 4; ++k) out.noalias() += p.weights[k] * inverseColumn(p.dofs[k]);
 }
 
 double TrackNewmark::compliance(const RailPoint& a, const RailPoint& b) const {
-  Eigen::VectorXd g;
-  solveUnitLoad(b, g);
-  return a.displacement(g);
+  // r_a^T K_eff^{-1} r_b from the cached columns of b's DOFs.
+  double g = 0.0;
+  for (int l = 0; l < 4; ++l) g += b.weights[l] * a.displacement(inverseColumn(b.dofs[l]));
+  return g;
 }
 
 void TrackNewmark::setContactPoints(const std::vector<RailPoint>& points) {
   if (!predicted_) throw std::logic_error("TrackNewmark::setContactPoints before predict()");
   points_ = points;
-  const size_t n = points.size();
-  if (unit_.size() < n) unit_.resize(n);
-  G_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  w_free_.resize(static_cast<Eigen::Index>(n));
-  for (size_t j = 0; j < n; ++j) solveUnitLoad(points[j], unit_[j]);
-  for (size_t i = 0; i < n; ++i) {
-    w_free_[static_cast<Eigen::Index>(i)] = points[i].displacement(u_free_);
-    for (size_t j = 0; j < n; ++j) {
-      G_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = points[i].displacement(unit_[j]);
-    }
+  const auto n = static_cast<Eigen::Index>(points.size());
+  G_.resize(n, n);
+  w_free_.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    w_free_[i] = points_[i].displacement(u_free_);
+    for (Eigen::Index j = 0; j < n; ++j) G_(i, j) = compliance(points_[i], points_[j]);
   }
 }
 
@@ -139,7 +198,9 @@ void TrackNewmark::commitContact(const std::vector<double>& forces_n) {
   if (forces_n.size() != points_.size()) throw std::invalid_argument("TrackNewmark::commitContact: force count");
   tmp_ = u_free_;
   for (size_t j = 0; j < forces_n.size(); ++j) {
-    if (forces_n[j] != 0.0) tmp_.noalias() += forces_n[j] * unit_[j];
+    if (forces_n[j] == 0.0) continue;
+    for (int k = 0; k < 4; ++k)
+      tmp_.noalias() += (forces_n[j] * points_[j].weights[k]) * inverseColumn(points_[j].dofs[k]);
   }
   finish(tmp_);
 }

@@ -57,7 +57,8 @@ std::vector<double> staticWheelLoadsPerRail(const ConfigNode& vehicle, double g_
   double total = 2.0 * carbody.number("end_mass_kg", Range::positive()) +
                  carbody.number("central_mass_kg", Range::positive()) +
                  static_cast<double>(axles / 2) * bogie.number("mass_kg", Range::positive());
-  const double motor_wheel = motor.number("mass_kg", Range::positive()) + motor.number("tread_mass_kg", Range::nonNegative());
+  const double motor_wheel =
+      motor.number("mass_kg", Range::positive()) + motor.number("tread_mass_kg", Range::nonNegative());
   const double trailer_wheel = trailer.number("mass_kg", Range::positive());
   for (const auto& t : types) {
     if (t == "motor") {

@@ -159,6 +159,7 @@ PassageParams loadPassageParams(const ConfigNode& root) {
   p.time_step_s = s.number("time_step_s", Range::closed(1.0e-7, 5.0e-5));
   p.front_axle_start_m = s.number("front_axle_start_m", Range::any());
   p.contact_tolerance = s.number("contact_tolerance", Range::closed(1e-14, 1e-4), p.contact_tolerance);
+  p.convected_track_start = s.flag("convected_track_start", false);
   return p;
 }
 

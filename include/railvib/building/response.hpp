@@ -81,7 +81,7 @@ class BuildingResponseSolver {
 /// velocity of the response points, by an impulse (impact) analysis through
 /// BuildingResponseSolver and a discrete Fourier transform of both signals.
 struct TransferFunctionOptions {
-  double duration_s = 4.0;
+  double duration_s = 6.0;
   double sample_period_s = 1.0e-3;
   double pulse_duration_s = 0.01;  ///< half-sine velocity pulse
   double fmax_hz = 60.0;

@@ -14,9 +14,9 @@ struct DinCheckRow {
   double f_hz = 0.0;
   double expected_kb_f = 0.0;
   double expected_kb_fmax = 0.0;
-  double kb_f = 0.0;      ///< mean of KB_F(t) over whole ripple periods after settling
-  double kb_f_rms = 0.0;  ///< sqrt(mean KB_F^2) (= weighted rms of the sine)
-  double kb_fmax = 0.0;   ///< max of KB_F(t) after settling
+  double kb_f = 0.0;            ///< mean of KB_F(t) over whole ripple periods after settling
+  double kb_f_rms = 0.0;        ///< sqrt(mean KB_F^2) (= weighted rms of the sine)
+  double kb_fmax = 0.0;         ///< max of KB_F(t) after settling
   double kb_fmax_analog = 0.0;  ///< analog prediction |H|/sqrt2 * sqrt(1 + 1/sqrt(1 + (2 w tau)^2))
 };
 

@@ -27,11 +27,11 @@ struct MonitorSpec {
 };
 
 struct MonitorSnapshot {
-  double time_s = 0.0;              ///< time of the last processed sample (from the first)
-  std::vector<double> kb_f;         ///< per component, current KB_F
-  std::vector<double> kb_fmax;      ///< per component, max since start
-  double kb_fmax_all = 0.0;         ///< max over components (DIN 4150-2 uses the largest)
-  PpvEvaluation ppv;                ///< per component + vector sum, DIN 4150-3
+  double time_s = 0.0;          ///< time of the last processed sample (from the first)
+  std::vector<double> kb_f;     ///< per component, current KB_F
+  std::vector<double> kb_fmax;  ///< per component, max since start
+  double kb_fmax_all = 0.0;     ///< max over components (DIN 4150-2 uses the largest)
+  PpvEvaluation ppv;            ///< per component + vector sum, DIN 4150-3
   std::vector<ThirdOctaveBand> bands;
   std::vector<std::vector<double>> third_octave_running_db;     ///< [component][band]
   std::vector<std::vector<double>> third_octave_equivalent_db;  ///< [component][band] since start

@@ -24,9 +24,9 @@ constexpr double kVelocityRefIso1683 = 1e-9;  ///< m/s
 constexpr double kVelocityRef5e8 = 5e-8;      ///< m/s (some railway practice)
 
 struct ThirdOctaveBand {
-  int index = 0;             ///< n: centre 10^(n/10) Hz
-  double nominal_hz = 0.0;   ///< label (e.g. 31.5)
-  double centre_hz = 0.0;    ///< exact 10^(n/10)
+  int index = 0;            ///< n: centre 10^(n/10) Hz
+  double nominal_hz = 0.0;  ///< label (e.g. 31.5)
+  double centre_hz = 0.0;   ///< exact 10^(n/10)
   double lower_hz = 0.0;
   double upper_hz = 0.0;
 };

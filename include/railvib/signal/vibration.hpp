@@ -23,7 +23,7 @@ namespace railvib::signal {
 // ------------------------------------------------------------------ KB weighting
 
 struct KbSpec {
-  double highpass_hz = 0.8;  ///< band limit, 2-pole Butterworth high pass
+  double highpass_hz = 0.8;   ///< band limit, 2-pole Butterworth high pass
   double lowpass_hz = 100.0;  ///< band limit, 2-pole Butterworth low pass
   /// Bilinear matching frequency of the low pass (exact analog magnitude there):
   /// the top of the 1-80 Hz building range, so a 1 kHz stream stays accurate.
@@ -43,9 +43,9 @@ class KbWeighting {
   /// A block; kb_f_out (may be null) receives KB_F per sample.
   void process(const double* velocity_mm_s, size_t n, double* kb_f_out = nullptr);
 
-  double kb() const { return kb_; }           ///< last weighted sample KB(t)
-  double kbF() const { return std::sqrt(y_); }  ///< last running rms KB_F(t)
-  double kbFmax() const { return kb_fmax_; }  ///< max of KB_F since start / resetMax()
+  double kb() const { return kb_; }                      ///< last weighted sample KB(t)
+  double kbF() const { return std::sqrt(y_); }           ///< last running rms KB_F(t)
+  double kbFmax() const { return kb_fmax_; }             ///< max of KB_F since start / resetMax()
   double kbFmaxTime() const { return kb_fmax_time_s_; }  ///< time of KB_Fmax (s from the first sample)
   void resetMax() { kb_fmax_ = 0.0; }
   void reset();

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "railvib/common/config.hpp"
 #include "railvib/signal/decimator.hpp"
 #include "railvib/signal/differentiator.hpp"
 #include "railvib/signal/monitor.hpp"
@@ -37,6 +38,24 @@ struct SensorSample {
   double velocity_m_s[3] = {0, 0, 0};
   double acceleration_m_s2[3] = {0, 0, 0};
 };
+
+/// A configured sensor: what it measures and where its input comes from.
+struct VirtualSensorSetup {
+  VirtualSensorSpec spec;  ///< input_rate_hz is set when the input stream is known
+  std::string source;      ///< "soil" (SurfaceVelocities) or "building" (BuildingResponse)
+  std::string point;       ///< name of the receiver / response point in that stream
+};
+
+struct VirtualSensorConfig {
+  double sample_rate_hz = 1000.0;
+  double metrics_rate_hz = 10.0;
+  bool include_gravity = true;
+  bool night = false;  ///< DIN 4150-2 period of the guide values
+  std::vector<VirtualSensorSetup> sensors;
+};
+
+/// Read the `virtual_sensors` section (validated; names unique, sources soil|building).
+VirtualSensorConfig loadVirtualSensorConfig(const ConfigNode& root);
 
 class VirtualSensor {
  public:

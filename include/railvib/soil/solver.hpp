@@ -42,6 +42,8 @@ struct SolverOptions {
   double absorbing_layer_alpha_1_s = 0.0;
   /// Constrain u_x = u_y = 0 everywhere (1D column tests).
   bool lateral_rollers = false;
+  /// Symmetry planes (u_x = 0 on x = x_min, u_y = 0 on y = y_min), e.g. quarter models.
+  bool symmetry_x_min = false, symmetry_y_min = false;
   /// Fix every bottom node (static tests; instead of the bottom dashpots).
   bool fixed_bottom = false;
   /// Uniform mass-proportional damping alpha M v (1/s) (dynamic relaxation in static tests).

@@ -63,6 +63,8 @@ class TrackNewmark {
   const Eigen::VectorXd& freeDisplacement() const { return u_free_; }
   double freeDisplacementAt(const RailPoint& p) const { return p.displacement(u_free_); }
   /// out = K_eff^{-1} r_p: end-of-step displacements per unit load at p (m/N).
+  /// Built from cached columns of K_eff^{-1} at rail DOFs (each column costs one
+  /// back-substitution the first time a wheel reaches that node; K_eff is constant).
   void solveUnitLoad(const RailPoint& p, Eigen::VectorXd& out) const;
   /// r_i^T K_eff^{-1} r_j (m/N): end-of-step rail displacement at a per unit load at b.
   double compliance(const RailPoint& a, const RailPoint& b) const;
@@ -90,6 +92,8 @@ class TrackNewmark {
  private:
   void finish(const Eigen::VectorXd& u_next);
   void solveInPlace(Eigen::VectorXd& x) const;
+  /// Column d of K_eff^{-1} (cached).
+  const Eigen::VectorXd& inverseColumn(Eigen::Index d) const;
 
   struct Solver;
   const TrackModel& model_;
@@ -98,7 +102,8 @@ class TrackNewmark {
   std::unique_ptr<Solver> solver_;
   Eigen::VectorXd u_, v_, a_, u_free_, rhs_, tmp_, tmp2_;
   std::vector<RailPoint> points_;
-  std::vector<Eigen::VectorXd> unit_;
+  mutable std::vector<Eigen::VectorXd> columns_;
+  mutable size_t cached_columns_ = 0;
   Eigen::MatrixXd G_;
   Eigen::VectorXd w_free_;
   bool predicted_ = false;

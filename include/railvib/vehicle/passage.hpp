@@ -43,8 +43,11 @@ class RailSupport {
   virtual bool isRigid() const = 0;
   /// Static compliance (m/N): rail static displacement at x_i per unit load at x_j.
   virtual Eigen::MatrixXd staticCompliance(const std::vector<double>& x_m) = 0;
-  /// Start at rest in static equilibrium under loads F_j at x_j (N, downward).
-  virtual void start(const std::vector<double>& x_m, const std::vector<double>& forces_n, double t_s) = 0;
+  /// Start in static equilibrium under loads F_j at x_j (N, downward) moving at
+  /// `speed_m_s`: the static deflection is convected with the loads (v = -V du/dx,
+  /// a = V^2 d2u/dx2), which removes most of the start-up transient.
+  virtual void start(const std::vector<double>& x_m, const std::vector<double>& forces_n, double t_s,
+                     double speed_m_s) = 0;
   /// Prepare the step to the end-of-step wheel positions: rail displacement at
   /// the points without contact loads, and end-of-step compliance (m/N).
   virtual void prepareStep(const std::vector<double>& x_m, Eigen::VectorXd& free_displacement_m,
@@ -64,7 +67,7 @@ class RigidRail : public RailSupport {
  public:
   bool isRigid() const override { return true; }
   Eigen::MatrixXd staticCompliance(const std::vector<double>& x) override;
-  void start(const std::vector<double>&, const std::vector<double>&, double) override {}
+  void start(const std::vector<double>&, const std::vector<double>&, double, double) override {}
   void prepareStep(const std::vector<double>& x, Eigen::VectorXd& free, Eigen::MatrixXd& G) override;
   void commitStep(const std::vector<double>&) override {}
   void ballastForces(std::vector<double>& out) const override { out.clear(); }
@@ -80,7 +83,7 @@ class FlexibleRail : public RailSupport {
   ~FlexibleRail() override;
   bool isRigid() const override { return false; }
   Eigen::MatrixXd staticCompliance(const std::vector<double>& x) override;
-  void start(const std::vector<double>& x, const std::vector<double>& F, double t_s) override;
+  void start(const std::vector<double>& x, const std::vector<double>& F, double t_s, double speed_m_s) override;
   void prepareStep(const std::vector<double>& x, Eigen::VectorXd& free, Eigen::MatrixXd& G) override;
   void commitStep(const std::vector<double>& F) override;
   void ballastForces(std::vector<double>& out) const override;

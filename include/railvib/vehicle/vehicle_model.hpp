@@ -5,7 +5,7 @@
 // the downward displacement of a point of a body at offset s behind the front
 // axle is w(s) = z + (s - s_c) * theta, s_c the body's reference point.
 //
-// Bodies (full coordinates, 20 DOF for (A1)+Bo'+(1A)):
+// Bodies (full coordinates, 22 DOF for (A1)+Bo'+(1A)):
 //   3 carbodies   z, theta (front, central, rear)
 //   3 bogies      z, theta (leading, middle, rear)
 //   motor wheel   z of the motor-wheel mass (primary k_m, d_m to the bogie)
@@ -16,7 +16,7 @@
 // carbodies (equal vertical displacement of both bodies at the pin, relative
 // pitch free but for an optional pitch spring/damper). The two pin
 // constraints are eliminated exactly: full = T * reduced, reduced coordinates
-// (z_front, theta_front, theta_central, theta_rear, bogies, wheels), 18 DOF.
+// (z_front, theta_front, theta_central, theta_rear, bogies, wheels), 20 DOF.
 // Each carbody rests on its bogie through the secondary suspension (one
 // element per bogie side at the bogie centre); the end carbodies also hang on
 // their articulation with the central carbody, which sits on the middle bogie.

@@ -108,6 +108,10 @@ struct PassageParams {
   double front_axle_start_m = -11.666666666666666;
   /// Newton tolerance on the contact forces, relative to the mean static wheel load.
   double contact_tolerance = 1.0e-9;
+  /// Flexible track: start from the static deflection convected with the
+  /// moving loads (v = -V du/dx) instead of at rest. Off by default so that
+  /// the track node (TrackStepper::start, at rest) reproduces the coupled run.
+  bool convected_track_start = false;
 };
 
 /// Read and validate the `vehicle` section (ranges, axle order, geometry). Throws ConfigError.

@@ -46,8 +46,9 @@ TEST(ThirdOctave, PureToneLevel) {
       EXPECT_LT(l[ib + 2], 120.0 - 25.0);
       EXPECT_LT(l[ib - 2], 120.0 - 25.0);
       if (fs == 1000.0 && ib == 15) {
-        std::printf("1/3 oct 31.5 Hz band, 1 mm/s rms tone at 31.62 Hz: %.3f dB; bands -2/-1/+1/+2: %.1f %.1f %.1f %.1f\n",
-                    l[ib], l[ib - 2], l[ib - 1], l[ib + 1], l[ib + 2]);
+        std::printf(
+            "1/3 oct 31.5 Hz band, 1 mm/s rms tone at 31.62 Hz: %.3f dB; bands -2/-1/+1/+2: %.1f %.1f %.1f %.1f\n",
+            l[ib], l[ib - 2], l[ib - 1], l[ib + 1], l[ib + 2]);
       }
       // With v_ref = 5e-8 m/s the level is 20 log10(50) = 33.98 dB lower.
       const auto l5 = thirdOctaveLevels(v, fs, bands, kVelocityRef5e8, 10.0);

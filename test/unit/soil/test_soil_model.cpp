@@ -54,7 +54,7 @@ TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
   expectConfigError(big, "max_memory_gb");
 }
 
-TEST(SoilModel, SleeperFootprintLoadsSumToTheSleeperForce) {
+TEST(SoilModel, SleepersOutsideTheBoxAreDropped) {
   const SoilParams p = smallParams(railvib::soil::testing::smallScenario());
   SoilModel model(p, {0.0, 0.72});
   ASSERT_EQ(model.sleeperCount(), 2u);

@@ -1,8 +1,11 @@
 // Config validation of the track section: malformed inputs are refused with a
 // message naming the key path, the value, the allowed range and the file.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -87,8 +90,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"missing_key", "    bending_stiffness_n_m2: 4.17e6\n", "", "track.rail.bending_stiffness_n_m2",
                 "missing"},
         BadCase{"negative_mass", "    mass_kg: 45.0", "    mass_kg: -45.0", "track.sleeper.mass_kg", "-45"},
-        BadCase{"nan", "    stiffness_n_m: 90.0e6", "    stiffness_n_m: .nan", "track.railpad.stiffness_n_m",
-                "nan"},
+        BadCase{"nan", "    stiffness_n_m: 90.0e6", "    stiffness_n_m: .nan", "track.railpad.stiffness_n_m", "nan"},
         BadCase{"wrong_type", "    stiffness_n_m: 32.0e6", "    stiffness_n_m: soft", "track.ballast.stiffness_n_m",
                 "soft"},
         BadCase{"zero_spacing", "    spacing_m: 0.72", "    spacing_m: 0", "track.sleeper.spacing_m", "(0, 5]"},
@@ -107,11 +109,12 @@ INSTANTIATE_TEST_SUITE_P(
                 "track.foundation.clm.coupling_damping_n_s_m", "d_f + 4 d_c"},
         BadCase{"infinite_mass", "    mass_per_length_kg_m: 54.0", "    mass_per_length_kg_m: .inf",
                 "track.rail.mass_per_length_kg_m", "inf"},
-        BadCase{"list_instead_of_number", "    spacing_m: 0.72", "    spacing_m: [0.72, 0.6]", "track.sleeper.spacing_m",
-                "0.72"},
+        BadCase{"list_instead_of_number", "    spacing_m: 0.72", "    spacing_m: [0.72, 0.6]",
+                "track.sleeper.spacing_m", "0.72"},
         BadCase{"ends_too_long", "    absorbing_length_m: 12.0", "    absorbing_length_m: 45.0",
                 "track.ends.absorbing_length_m", "80 %"},
-        BadCase{"negative_clm_mass", "    clm:\n      # per sleeper and half track [paper, appendix]\n      mass_kg: 2502.0",
+        BadCase{"negative_clm_mass",
+                "    clm:\n      # per sleeper and half track [paper, appendix]\n      mass_kg: 2502.0",
                 "    clm:\n      # per sleeper and half track [paper, appendix]\n      mass_kg: -1",
                 "track.foundation.clm.mass_kg", "-1"},
         BadCase{"zero_load_rate", "load_sample_rate_hz: 2000.0", "load_sample_rate_hz: 0",
@@ -134,8 +137,8 @@ TEST(TrackConfig, OverrideValidated) {
 TEST(TrackOutput, FailedRunLeavesNoPartialFile) {
   const std::string path = tempDir() + "/moving_load.csv";
   fs::remove(path);
-  const TrackModel model(test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15",
-                                      "track.ends.absorbing_length_m=3"}));
+  const TrackModel model(
+      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=3"}));
   MovingLoadRun run;
   run.dt_s = 1e-3;
   run.duration_s = 10.0;  // the load leaves the 30 m rail after ~1.3 s
@@ -163,6 +166,64 @@ TEST(TrackOutput, FailedRunLeavesNoPartialFile) {
   for (const auto& entry : fs::directory_iterator(fs::path(path).parent_path())) {
     EXPECT_EQ(entry.path().string().find("moving_load"), std::string::npos) << "leftover " << entry.path();
   }
+}
+
+}  // namespace
+}  // namespace railvib::track
+
+namespace railvib::track {
+namespace {
+
+// The same through the real tool (subprocess), when it has been built next to
+// this test binary (non-ROS build: <build>/bin, catkin: <build>/devel/lib/railvib).
+std::string findTool() {
+  if (const char* env = std::getenv("RAILVIB_TOOL")) return env;
+  const fs::path exe = fs::read_symlink("/proc/self/exe").parent_path();
+  for (const fs::path& c :
+       {exe.parent_path() / "bin" / "railvib_tool", exe.parent_path() / "devel" / "lib" / "railvib" / "railvib_tool"}) {
+    if (fs::exists(c)) return c.string();
+  }
+  return "";
+}
+
+TEST(TrackTool, FailuresLeaveNoOutputFile) {
+  const std::string tool = findTool();
+  if (tool.empty()) GTEST_SKIP() << "railvib_tool not built next to the test binary";
+  const std::string dir = tempDir();
+  const std::string csv = dir + "/tool_out.csv";
+  const std::string cfg = test::configPath("haren.yaml");
+  struct Case {
+    std::string args;
+    int expected_status;
+  };
+  const std::vector<Case> cases{
+      // bad config value: refused before any work (exit 3, ConfigError)
+      {"moving-load --config " + cfg + " --set track.sleeper.spacing_m=0 --csv " + csv, 3},
+      {"receptance --config " + cfg + " --foundation elastic --csv " + csv, 3},
+      // a load leaves the rail half-way through the run: rows were written, then removed (exit 1)
+      {"moving-load --config " + cfg +
+           " --set track.extent.x_min_m=-30 --set track.extent.x_max_m=30 "
+           "--set track.ends.absorbing_length_m=5 --dt 1e-3 --rate 100 --duration 60 --csv " +
+           csv,
+       1},
+  };
+  for (const auto& c : cases) {
+    fs::remove(csv);
+    const std::string cmd = tool + " " + c.args + " > " + dir + "/stdout.txt 2> " + dir + "/stderr.txt";
+    const int rc = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(rc)) << c.args;
+    EXPECT_EQ(WEXITSTATUS(rc), c.expected_status) << c.args << "\n" << readText(dir + "/stderr.txt");
+    EXPECT_FALSE(fs::exists(csv)) << c.args;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      EXPECT_EQ(entry.path().filename().string().find("tool_out"), std::string::npos) << "leftover " << entry.path();
+    }
+  }
+  // and a good run writes the file
+  const std::string good = tool + " moving-load --config " + cfg + " --dt 1e-3 --rate 100 --duration 0.5 --csv " + csv +
+                           " > " + dir + "/stdout.txt";
+  EXPECT_EQ(std::system(good.c_str()), 0);
+  EXPECT_TRUE(fs::exists(csv));
+  fs::remove(csv);
 }
 
 }  // namespace

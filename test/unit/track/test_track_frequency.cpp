@@ -54,7 +54,8 @@ TEST(TrackStatics, PointLoadMatchesWinklerBeam) {
   for (const std::string model_name : {"rigid", "winkler"}) {
     const TrackParams p = test::haren({"track.foundation.model=" + model_name});
     const TrackModel model(p);
-    const double w_ref = winklerBeamStaticDeflection(p.rail_bending_stiffness_n_m2, smearedStaticSupportStiffness(p), F);
+    const double w_ref =
+        winklerBeamStaticDeflection(p.rail_bending_stiffness_n_m2, smearedStaticSupportStiffness(p), F);
     for (double x : {0.0, 0.5 * p.sleeper_spacing_m, 0.25 * p.sleeper_spacing_m}) {
       const Eigen::VectorXd u = model.staticDeflection({{x, F}});
       const double w = model.railPoint(x).displacement(u);
@@ -103,8 +104,8 @@ TEST(TrackReceptance, BallastStiffnessShiftsResonances) {
   ASSERT_EQ(c2.peaks.size(), 2u);
   ASSERT_EQ(cf.peaks.size(), 2u);
   std::cout << "CLM peaks: nominal " << c1.peaks[0].frequency_hz << ", " << c1.peaks[1].frequency_hz << " Hz; 2 k_b "
-            << c2.peaks[0].frequency_hz << ", " << c2.peaks[1].frequency_hz << " Hz; 2 k_f "
-            << cf.peaks[0].frequency_hz << ", " << cf.peaks[1].frequency_hz << " Hz\n";
+            << c2.peaks[0].frequency_hz << ", " << c2.peaks[1].frequency_hz << " Hz; 2 k_f " << cf.peaks[0].frequency_hz
+            << ", " << cf.peaks[1].frequency_hz << " Hz\n";
   EXPECT_NEAR(c1.peaks[0].frequency_hz, 15.0, 3.0);
   EXPECT_NEAR(c1.peaks[1].frequency_hz, 75.0, 10.0);
   const double r_out = c2.peaks[1].frequency_hz / c1.peaks[1].frequency_hz;

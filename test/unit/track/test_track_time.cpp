@@ -18,12 +18,11 @@ namespace {
 // Newmark scheme conserves 1/2 v'Mv + 1/2 u'Ku exactly (up to round-off).
 TEST(TrackNewmarkEnergy, ConservedWithoutDamping) {
   for (const std::string fm : {"clm", "winkler", "rigid"}) {
-    const TrackParams p = test::haren({"track.foundation.model=" + fm, "track.extent.x_min_m=0",
-                                       "track.extent.x_max_m=10", "track.ends.absorbing_length_m=0",
-                                       "track.railpad.damping_n_s_m=0", "track.ballast.damping_n_s_m=0",
-                                       "track.foundation.clm.damping_n_s_m=0",
-                                       "track.foundation.clm.coupling_damping_n_s_m=0",
-                                       "track.foundation.winkler.damping_n_s_m=0"});
+    const TrackParams p =
+        test::haren({"track.foundation.model=" + fm, "track.extent.x_min_m=0", "track.extent.x_max_m=10",
+                     "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
+                     "track.ballast.damping_n_s_m=0", "track.foundation.clm.damping_n_s_m=0",
+                     "track.foundation.clm.coupling_damping_n_s_m=0", "track.foundation.winkler.damping_n_s_m=0"});
     const TrackModel model(p);
     ASSERT_EQ(model.damping().norm(), 0.0);
     TrackNewmark nm(model, 1.0e-4);
@@ -56,8 +55,8 @@ TEST(TrackNewmarkEnergy, ConservedWithoutDamping) {
 
 // With damping the energy can only decrease (C positive semi-definite, incl. negative d_c).
 TEST(TrackNewmarkEnergy, DecaysWithDamping) {
-  const TrackParams p = test::haren({"track.extent.x_min_m=0", "track.extent.x_max_m=10",
-                                     "track.ends.absorbing_length_m=0"});
+  const TrackParams p =
+      test::haren({"track.extent.x_min_m=0", "track.extent.x_max_m=10", "track.ends.absorbing_length_m=0"});
   const TrackModel model(p);
   EXPECT_TRUE(model.dampingIsPositiveSemiDefinite());
   TrackNewmark nm(model, 1.0e-4);
@@ -99,8 +98,8 @@ TEST(TrackMovingLoad, QuasiStaticEquilibrium) {
 
 // Coupling API: predict + unit responses + commitContact == step with the same loads.
 TEST(TrackNewmarkCoupling, ContactStepEqualsPlainStep) {
-  const TrackModel model(test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15",
-                                      "track.ends.absorbing_length_m=4"}));
+  const TrackModel model(
+      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=4"}));
   TrackNewmark a(model, 1.0e-5), b(model, 1.0e-5);
   const std::vector<PointLoad> initial{{-1.0, 20e3}, {0.7, 30e3}};
   a.setStaticEquilibrium(initial);
@@ -191,7 +190,8 @@ TEST(TrackEnds, ReflectionsAreSmall) {
               << "with end layer " << 100.0 * with_layer << " %, free ends " << 100.0 * without << " %\n";
     EXPECT_LT(with_layer, 0.01) << fm;
     // Stress case: track dampers at 2 % of the paper's values, waves reach the ends.
-    const std::vector<std::string> light{"track.foundation.model=" + fm, "track.railpad.damping_n_s_m=600",
+    const std::vector<std::string> light{"track.foundation.model=" + fm,
+                                         "track.railpad.damping_n_s_m=600",
                                          "track.ballast.damping_n_s_m=1040",
                                          "track.foundation.clm.damping_n_s_m=3000",
                                          "track.foundation.clm.coupling_damping_n_s_m=-460",
@@ -206,9 +206,8 @@ TEST(TrackEnds, ReflectionsAreSmall) {
 }
 
 TEST(TrackStepper, SoilLoadsAreTwiceTheHalfTrack) {
-  TrackStepper st(test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15",
-                               "track.ends.absorbing_length_m=4"}),
-                  1.0e-4);
+  TrackStepper st(
+      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=4"}), 1.0e-4);
   st.start({{0.0, 30e3}});
   double sum = 0.0;
   for (size_t i = 0; i < st.soilLoadsBothRails().size(); ++i) {

@@ -1,0 +1,79 @@
+// railvib ROS layer: virtual sensor node. Takes the soil receivers'
+// SurfaceVelocities and the building's BuildingResponse (with their latched
+// PointLayout), runs one railvib::signal::VirtualSensor per configured sensor
+// and publishes, per sensor, one sample per message:
+//   sensors/<name>/imu       sensor_msgs/Imu (acceleration; REP 145 gravity option)
+//   sensors/<name>/velocity  geometry_msgs/Vector3Stamped (m/s)
+//   sensors/<name>/metrics   railvib/VibrationMetrics (metrics_rate_hz of simulated time)
+// plus /diagnostics, and the lossless block stream `sensor_samples`.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "railvib/PointLayout.h"
+#include "railvib/SensorSamples.h"
+#include "railvib/common/sample_stream.hpp"
+#include "railvib/ros/block_publisher.hpp"
+#include "railvib/signal/virtual_sensor.hpp"
+
+namespace railvib::ros_io {
+
+class VirtualSensorNode {
+ public:
+  /// Private parameters: ~use_building (default true), ~required_subscribers (sensor_samples, default 1),
+  /// ~block_samples (sensor_samples block length, default 100).
+  VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  bool failed() const { return failed_; }
+
+  /// One input stream's block (SurfaceVelocities or BuildingResponse share this layout).
+  struct InputBlock {
+    uint64_t first_sample_index = 0;
+    bool end_of_stream = false;
+    double sample_period_s = 0.0;
+    uint32_t sample_count = 0;
+    uint32_t point_count = 0;
+    const std::vector<double>* velocity_m_s = nullptr;
+  };
+
+ private:
+  struct Sensor {
+    signal::VirtualSensorSetup setup;
+    std::unique_ptr<signal::VirtualSensor> sensor;
+    int point_index = -1;
+    ros::Publisher imu, velocity, metrics;
+    std::vector<signal::SensorSample> pending;  // emitted, not yet in a sensor_samples block
+    uint64_t published = 0;
+  };
+  struct Source {
+    std::string name;
+    std::unique_ptr<SampleIndexTracker> tracker;
+    std::vector<std::string> point_names;
+    bool has_layout = false;
+    bool ended = false;
+    ros::Subscriber layout_sub, data_sub;
+  };
+
+  void onLayout(Source& source, const railvib::PointLayout& layout);
+  void onBlock(Source& source, const InputBlock& block);
+  void publishSamples(Sensor& s, const std::vector<signal::SensorSample>& samples, size_t from);
+  void publishMetrics(Sensor& s, double time_s);
+  void publishBlocks(bool end_of_stream);
+  void fail(const std::string& what);
+
+  signal::VirtualSensorConfig config_;
+  std::vector<Sensor> sensors_;
+  std::vector<std::unique_ptr<Source>> sources_;
+  BlockPublisher<railvib::SensorSamples> samples_publisher_;
+  ros::Publisher diagnostics_publisher_;
+  size_t block_samples_ = 100;
+  uint64_t next_block_index_ = 0;
+  uint64_t metrics_every_ = 100;
+  bool failed_ = false;
+  bool finished_ = false;
+};
+
+}  // namespace railvib::ros_io

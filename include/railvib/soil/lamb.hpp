@@ -1,0 +1,97 @@
+// railvib/soil: Lamb's problem — surface vertical displacement of a
+// homogeneous elastic half-space under a vertical point load P H(t) (Pekeris
+// 1955; general Poisson ratio in the integral form of Verruijt, An
+// Introduction to Soil Dynamics, ch. 13.2), evaluated here by our own
+// quadrature, and its convolution with a smooth load signature.
+//
+// Normalisation: tau = Vs t / r; w = wbar(tau) P / (G r), w positive in the
+// direction of the load (downward for a downward load). wbar = 0 for tau <
+// Vs/Vp (P arrival), singular at the Rayleigh arrival tau_R = Vs / c_R and
+// tends to the static (Boussinesq) value (1 - nu) / (2 pi).
+#pragma once
+
+#include <vector>
+
+#include "railvib/soil/mesh.hpp"
+#include "railvib/soil/solver.hpp"
+
+namespace railvib::soil {
+
+class PekerisSolution {
+ public:
+  explicit PekerisSolution(const Material& m);
+
+  double tauP() const { return eta_; }
+  double tauS() const { return 1.0; }
+  double tauR() const { return tau_r_; }
+  double staticValue() const;
+  /// Normalised step response wbar(tau) (principal value after tau_R).
+  double stepNormalised(double tau) const;
+  /// w(r, t) for the step load P H(t).
+  double stepDisplacement(double p_n, double r_m, double t_s) const;
+  /// w(r, t) for the load P S(t), S a raised-cosine step rising over [0, rise_s]
+  /// (S = (1 - cos(pi t / rise)) / 2), at the given times.
+  std::vector<double> smoothStepResponse(double p_n, double r_m, double rise_s, const std::vector<double>& t_s) const;
+  /// Same for the Hann pulse S = (1 - cos(2 pi t / T)) / 2 on [0, T], 0 elsewhere.
+  std::vector<double> hannPulseResponse(double p_n, double r_m, double duration_s, const std::vector<double>& t_s) const;
+
+ private:
+  std::vector<double> response(double p_n, double r_m, double rise_s, const std::vector<double>& t_s,
+                               bool pulse) const;
+  double denominator(double s) const;       // rationalised Rayleigh function D(y^2)
+  double denominatorSlope(double s) const;  // dD / ds
+  Material mat_;
+  double eta_ = 0.0, tau_r_ = 0.0, vs_ = 0.0, g_ = 0.0;
+};
+
+/// FE Lamb benchmark: quarter box (symmetry planes x = 0, y = 0), Lysmer
+/// dashpots elsewhere, point load at the corner surface node with a
+/// raised-cosine step signature; surface vertical displacement along x.
+struct LambSpec {
+  Material material{2.5e7, 2000.0, 0.25};  // Vs = 70.7 m/s, Vp = 122 m/s
+  double h_m = 0.25;
+  double half_width_m = 14.0;
+  double depth_m = 14.0;
+  /// Load signature: Hann pulse of this duration (true) or raised-cosine step rising over it.
+  bool pulse = true;
+  double rise_s = 0.05;
+  double load_n = 1.0e4;
+  std::vector<double> distances_m = {4.0, 6.0, 8.0};
+  /// Simulated time (0 = until the pulse has passed the farthest station).
+  double duration_s = 0.0;
+  /// Absorbing layer along the absorbing faces (see SolverOptions).
+  double absorbing_layer_m = 0.0;
+  double absorbing_layer_alpha_1_s = 0.0;
+  Precision precision = Precision::Float;
+};
+
+struct LambStation {
+  double r_m = 0.0;
+  double t_p_fe_s = 0.0, t_p_an_s = 0.0;  // first time |w| exceeds 2 % of the peak (P arrival), interpolated
+  double t_r_fe_s = 0.0, t_r_an_s = 0.0;  // time of the peak |w| (Rayleigh pulse), parabolic refinement
+  double peak_fe_m = 0.0, peak_an_m = 0.0;
+  double elements_per_rayleigh_wavelength = 0.0;  // at the dominant frequency 1 / rise
+};
+
+struct LambResult {
+  std::vector<LambStation> stations;
+  std::vector<double> t_s;
+  std::vector<std::vector<double>> w_fe, w_an;  // per station
+  double dt_s = 0.0;
+  size_t elements = 0;
+};
+
+LambResult runLamb(const LambSpec& spec);
+
+/// Boundary reflections: the Lamb pulse in a small box vs the same in a large
+/// reference box (whose reflections arrive after the window); returns
+/// max |w_small - w_ref| / max |w_ref| at the station over the window.
+struct ReflectionResult {
+  double r_m = 0.0, window_s = 0.0;
+  double lysmer_only = 0.0;
+  double with_layer = 0.0;
+  double layer_m = 0.0, layer_alpha_1_s = 0.0;
+};
+ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m, double layer_alpha_1_s);
+
+}  // namespace railvib::soil

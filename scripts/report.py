@@ -1,0 +1,215 @@
+#!/usr/bin/env python3
+"""railvib report: figures and a Markdown summary from a recorded scenario bag.
+
+usage: ./railvib report BAG [OUTDIR]
+
+Reads the railvib streams of the bag (whatever the scenario recorded):
+  /contact_forces      contact forces at the defect
+  /soil_loads          ballast-to-soil loads
+  /surface_velocities  soil receivers (+ /surface_points names)
+  /building_response   house response points (+ /building_points names)
+  /sensor_samples      virtual sensors
+and writes PNG figures plus report.md into OUTDIR (default: BAG without
+.bag + "_report"). Every vibration metric (KB_F, PPV, DIN 4150 verdicts,
+one-third-octave levels) is computed by `railvib_tool metrics`, the same
+core code the live sensors use, never re-implemented here.
+"""
+import csv
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+try:
+    import rosbag
+except ImportError:  # pragma: no cover
+    sys.exit("railvib report: python3-rosbag is required (./railvib setup installs it)")
+
+
+def die(msg):
+    sys.exit("railvib report: error: " + msg)
+
+
+def read_stream(bag, topic):
+    """Concatenate the blocks of a stream topic; checks continuity. Returns (t, data[sample][...]) or None."""
+    blocks = [m for _, m, _ in bag.read_messages(topics=[topic])]
+    if not blocks:
+        return None
+    blocks.sort(key=lambda m: m.first_sample_index)
+    expected = 0
+    for b in blocks:
+        if b.first_sample_index != expected:
+            die(f"{topic}: samples {expected}..{b.first_sample_index - 1} missing from the bag")
+        expected += b.sample_count
+    return blocks
+
+
+def layout(bag, topic):
+    for _, m, _ in bag.read_messages(topics=[topic]):
+        return list(m.names), [(p.x, p.y, p.z) for p in m.positions]
+    return None, None
+
+
+def tool():
+    exe = shutil.which("railvib_tool")
+    if exe:
+        return [exe]
+    return ["rosrun", "railvib", "railvib_tool"]
+
+
+def metrics(t, v_m_s, outdir, name):
+    """Run railvib_tool metrics on one sensor's 3 components; returns its JSON summary."""
+    path = outdir / f"{name}_velocity.csv"
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t_s", "vx", "vy", "vz"])
+        for i in range(len(t)):
+            w.writerow([repr(t[i])] + [repr(x) for x in v_m_s[i]])
+    out = subprocess.run(
+        tool() + ["metrics", "--csv", str(path), "--column", "vx,vy,vz", "--out", str(outdir / f"{name}_kbf.csv")],
+        capture_output=True, text=True)
+    if out.returncode != 0:
+        die(f"railvib_tool metrics failed for {name}: {out.stderr.strip()}")
+    kbf = np.genfromtxt(outdir / f"{name}_kbf.csv", delimiter=",", names=True)
+    return json.loads(out.stdout), kbf
+
+
+def spectrum(t, x):
+    n = len(x)
+    if n < 2:
+        return np.array([0.0]), np.array([0.0])
+    dt = t[1] - t[0]
+    win = np.hanning(n)
+    amp = np.abs(np.fft.rfft(x * win)) * 2.0 / win.sum()
+    return np.fft.rfftfreq(n, dt), amp
+
+
+def main(argv):
+    if len(argv) < 2:
+        die("usage: ./railvib report BAG [OUTDIR]")
+    bag_path = pathlib.Path(argv[1])
+    if not bag_path.exists():
+        die(f"no such bag: {bag_path}")
+    outdir = pathlib.Path(argv[2]) if len(argv) > 2 else bag_path.with_name(bag_path.stem + "_report")
+    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        bag = rosbag.Bag(str(bag_path))
+    except Exception as e:  # rosbag raises several types for truncated or corrupt files
+        die(f"cannot read {bag_path}: {e}")
+
+    lines = [f"# railvib report: `{bag_path.name}`", ""]
+    figures = []
+
+    with bag:
+        # ---- contact forces around the defect
+        cf = read_stream(bag, "/contact_forces")
+        if cf:
+            nw = cf[0].wheel_count
+            f = np.concatenate([np.array(b.force_n).reshape(-1, nw) for b in cf])
+            x = np.concatenate([np.array(b.position_m).reshape(-1, nw) for b in cf])
+            t = np.arange(len(f)) * cf[0].sample_period_s
+            fig, ax = plt.subplots(figsize=(9, 4))
+            for w in range(nw):
+                ax.plot(t, f[:, w] / 1e3, lw=0.7, label=f"wheel {w + 1}")
+            ax.set_xlabel("time [s]")
+            ax.set_ylabel("contact force [kN]")
+            ax.set_title("Wheel/rail contact forces")
+            ax.legend(fontsize=7, ncol=3)
+            ax.grid(alpha=0.3)
+            fig.tight_layout()
+            fig.savefig(outdir / "contact_forces.png", dpi=120)
+            plt.close(fig)
+            figures.append("contact_forces.png")
+            lines += ["## Contact forces", "", "| wheel | static [kN] | min [kN] | max [kN] |", "|---|---|---|---|"]
+            for w in range(nw):
+                lines.append(f"| {w + 1} | {f[0, w] / 1e3:.2f} | {f[:, w].min() / 1e3:.2f} | {f[:, w].max() / 1e3:.2f} |")
+            lines.append("")
+
+        # ---- virtual sensors: time history, spectrum, KB_F + metric table
+        ss = read_stream(bag, "/sensor_samples")
+        sensor_rows = []
+        if ss:
+            names = list(ss[0].sensor_names)
+            ns = len(names)
+            v = np.concatenate([np.array(b.velocity_m_s).reshape(-1, ns, 3) for b in ss])
+            t = np.arange(len(v)) * ss[0].sample_period_s
+            fig, axes = plt.subplots(ns, 3, figsize=(13, 2.6 * ns), squeeze=False)
+            for i, name in enumerate(names):
+                summary, kbf = metrics(t, v[:, i, :], outdir, name)
+                sensor_rows.append((name, summary))
+                ax = axes[i][0]
+                ax.plot(t, v[:, i, 2] * 1e3, lw=0.6)
+                ax.set_title(f"{name}: vertical velocity")
+                ax.set_xlabel("time [s]")
+                ax.set_ylabel("v_z [mm/s]")
+                ax = axes[i][1]
+                fr, amp = spectrum(t, v[:, i, 2] * 1e3)
+                ax.plot(fr, amp, lw=0.7)
+                ax.set_xlim(0, 100)
+                ax.set_xlabel("frequency [Hz]")
+                ax.set_ylabel("|V_z| [mm/s]")
+                ax.set_title("spectrum")
+                ax = axes[i][2]
+                cols = kbf.dtype.names
+                ax.plot(kbf[cols[0]], kbf[cols[-1]], lw=0.8)
+                ax.set_xlabel("time [s]")
+                ax.set_ylabel("KB_F(t) (vertical) [-]")
+                ax.set_title("DIN 4150-2 KB_F")
+                for a in axes[i]:
+                    a.grid(alpha=0.3)
+            fig.tight_layout()
+            fig.savefig(outdir / "sensors.png", dpi=110)
+            plt.close(fig)
+            figures.append("sensors.png")
+            lines += ["## Virtual sensors", "",
+                      "| sensor | KB_Fmax | PPV [mm/s] | dominant f [Hz] | DIN 4150-3 limit [mm/s] | DIN 4150-2 | DIN 4150-3 |",
+                      "|---|---|---|---|---|---|---|"]
+            for name, s in sensor_rows:
+                d2, d3 = s["din4150_2"], s["din4150_3"]
+                worst = max(d3["components"], key=lambda c: c["ratio_to_limit"])
+                lines.append("| {} | {:.4f} | {:.4f} | {:.1f} | {:.1f} | {} | {} |".format(
+                    name, d2["kb_fmax"], d3["vector_peak_mm_s"], worst["dominant_frequency_hz"],
+                    worst["din4150_3_limit_mm_s"], d2["verdict"], d3["verdict"]))
+            lines.append("")
+
+        # ---- wave field along the line perpendicular to the track (receivers named line_*)
+        sv = read_stream(bag, "/surface_velocities")
+        names, pos = layout(bag, "/surface_points")
+        if sv and names:
+            nr = sv[0].receiver_count
+            vel = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
+            t = np.arange(len(vel)) * sv[0].sample_period_s
+            line = [(pos[i][1], i) for i, n in enumerate(names) if n.startswith("line_")]
+            if line:
+                line.sort()
+                y = np.array([p for p, _ in line])
+                field = np.array([vel[:, i, 2] for _, i in line]) * 1e3
+                fig, ax = plt.subplots(figsize=(9, 5))
+                lim = np.abs(field).max() or 1.0
+                im = ax.pcolormesh(t, y, field, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto")
+                fig.colorbar(im, ax=ax, label="vertical velocity [mm/s]")
+                ax.set_xlabel("time [s]")
+                ax.set_ylabel("distance from the track axis [m]")
+                ax.set_title("Wave field along the line perpendicular to the track, in front of the defect")
+                fig.tight_layout()
+                fig.savefig(outdir / "wave_field.png", dpi=120)
+                plt.close(fig)
+                figures.append("wave_field.png")
+
+    lines += ["## Figures", ""] + [f"![{f}]({f})" for f in figures]
+    (outdir / "report.md").write_text("\n".join(lines) + "\n")
+    print(f"railvib report: {outdir / 'report.md'} ({len(figures)} figures)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

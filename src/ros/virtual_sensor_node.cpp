@@ -1,0 +1,283 @@
+#include "railvib/ros/virtual_sensor_node.hpp"
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/Vector3Stamped.h>
+#include <sensor_msgs/Imu.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "railvib/BuildingResponse.h"
+#include "railvib/SurfaceVelocities.h"
+#include "railvib/VibrationMetrics.h"
+#include "railvib/ros/node_config.hpp"
+
+namespace railvib::ros_io {
+
+namespace {
+constexpr double kGravity_m_s2 = 9.80665;
+
+template <class Msg>
+VirtualSensorNode::InputBlock asInput(const Msg& msg, uint32_t point_count) {
+  VirtualSensorNode::InputBlock b;
+  b.first_sample_index = msg.first_sample_index;
+  b.end_of_stream = msg.end_of_stream;
+  b.sample_period_s = msg.sample_period_s;
+  b.sample_count = msg.sample_count;
+  b.point_count = point_count;
+  b.velocity_m_s = &msg.velocity_m_s;
+  return b;
+}
+}  // namespace
+
+VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
+  const Config config = loadNodeConfig(nh);
+  config_ = signal::loadVirtualSensorConfig(config.root());
+  bool use_building = true;
+  int required_subscribers = 1;
+  int block_samples = 100;
+  private_nh.param("use_building", use_building, use_building);
+  private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  private_nh.param("block_samples", block_samples, block_samples);
+  block_samples_ = static_cast<size_t>(std::max(1, block_samples));
+  metrics_every_ =
+      std::max<uint64_t>(1, static_cast<uint64_t>(std::llround(config_.sample_rate_hz / config_.metrics_rate_hz)));
+
+  for (const auto& setup : config_.sensors) {
+    if (setup.source == "building" && !use_building) continue;
+    Sensor s;
+    s.setup = setup;
+    const std::string base = "sensors/" + setup.spec.name + "/";
+    s.imu = nh.advertise<sensor_msgs::Imu>(base + "imu", 0);
+    s.velocity = nh.advertise<geometry_msgs::Vector3Stamped>(base + "velocity", 0);
+    s.metrics = nh.advertise<railvib::VibrationMetrics>(base + "metrics", 0);
+    sensors_.push_back(std::move(s));
+  }
+  if (sensors_.empty()) throw std::runtime_error("no virtual sensor configured (virtual_sensors.sensors)");
+  samples_publisher_ = BlockPublisher<railvib::SensorSamples>(nh, "sensor_samples", required_subscribers);
+  diagnostics_publisher_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+
+  auto has_source = [&](const char* name) {
+    return std::any_of(sensors_.begin(), sensors_.end(), [&](const Sensor& s) { return s.setup.source == name; });
+  };
+  auto add_source = [&](const std::string& name) -> Source& {
+    sources_.push_back(std::make_unique<Source>());
+    Source& src = *sources_.back();
+    src.name = name;
+    src.tracker = std::make_unique<SampleIndexTracker>(name);
+    return src;
+  };
+  if (has_source("soil")) {
+    Source& src = add_source("soil");
+    Source* raw = &src;
+    src.layout_sub = nh.subscribe<railvib::PointLayout>(
+        "surface_points", 1,
+        boost::function<void(const railvib::PointLayout::ConstPtr&)>(
+            [this, raw](const railvib::PointLayout::ConstPtr& m) { onLayout(*raw, *m); }));
+    src.data_sub = nh.subscribe<railvib::SurfaceVelocities>(
+        "surface_velocities", 0,
+        boost::function<void(const railvib::SurfaceVelocities::ConstPtr&)>(
+            [this, raw](const railvib::SurfaceVelocities::ConstPtr& m) { onBlock(*raw, asInput(*m, m->receiver_count)); }));
+  }
+  if (has_source("building")) {
+    Source& src = add_source("building");
+    Source* raw = &src;
+    src.layout_sub = nh.subscribe<railvib::PointLayout>(
+        "building_points", 1,
+        boost::function<void(const railvib::PointLayout::ConstPtr&)>(
+            [this, raw](const railvib::PointLayout::ConstPtr& m) { onLayout(*raw, *m); }));
+    src.data_sub = nh.subscribe<railvib::BuildingResponse>(
+        "building_response", 0,
+        boost::function<void(const railvib::BuildingResponse::ConstPtr&)>(
+            [this, raw](const railvib::BuildingResponse::ConstPtr& m) { onBlock(*raw, asInput(*m, m->point_count)); }));
+  }
+  ROS_INFO("virtual_sensor: %zu sensor(s) at %.0f Hz, metrics every %lu samples", sensors_.size(),
+           config_.sample_rate_hz, static_cast<unsigned long>(metrics_every_));
+}
+
+
+
+void VirtualSensorNode::fail(const std::string& what) {
+  ROS_FATAL("virtual_sensor: %s", what.c_str());
+  failed_ = true;
+  ros::shutdown();
+}
+
+void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& layout) {
+  if (source.has_layout) return;
+  source.point_names = layout.names;
+  source.has_layout = true;
+  for (auto& s : sensors_) {
+    if (s.setup.source != source.name) continue;
+    const auto it = std::find(layout.names.begin(), layout.names.end(), s.setup.point);
+    if (it == layout.names.end()) {
+      fail("sensor " + s.setup.spec.name + ": point '" + s.setup.point + "' is not among the " + source.name +
+           " output points");
+      return;
+    }
+    s.point_index = static_cast<int>(it - layout.names.begin());
+  }
+}
+
+void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
+  if (failed_ || finished_) return;
+  try {
+    if (!source.has_layout) throw std::runtime_error(source.name + " data arrived before its point layout");
+    source.tracker->accept(block.first_sample_index, block.sample_count);
+    const size_t expected = static_cast<size_t>(block.sample_count) * block.point_count * 3;
+    if (block.velocity_m_s->size() != expected) throw std::runtime_error(source.name + ": malformed block");
+    const double input_rate = 1.0 / block.sample_period_s;
+    std::vector<double> frames(3 * block.sample_count);
+    std::vector<signal::SensorSample> emitted;
+    for (auto& s : sensors_) {
+      if (s.setup.source != source.name) continue;
+      if (!s.sensor) {
+        s.setup.spec.input_rate_hz = input_rate;
+        s.sensor = std::make_unique<signal::VirtualSensor>(s.setup.spec, 0.0);
+      }
+      for (uint32_t k = 0; k < block.sample_count; ++k) {
+        for (int c = 0; c < 3; ++c) {
+          frames[3 * k + c] = (*block.velocity_m_s)[(static_cast<size_t>(k) * block.point_count + s.point_index) * 3 + c];
+        }
+      }
+      emitted.clear();
+      s.sensor->push(frames.data(), block.sample_count, emitted);
+      if (block.end_of_stream) s.sensor->flush(emitted);
+      publishSamples(s, emitted, 0);
+    }
+    if (block.end_of_stream) source.ended = true;
+    const bool all_ended =
+        std::all_of(sources_.begin(), sources_.end(), [](const std::unique_ptr<Source>& s) { return s->ended; });
+    publishBlocks(all_ended);
+    if (all_ended) finished_ = true;
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+}
+
+void VirtualSensorNode::publishSamples(Sensor& s, const std::vector<signal::SensorSample>& samples, size_t from) {
+  const std::string frame = "sensor_" + s.setup.spec.name;
+  const double g = config_.include_gravity ? kGravity_m_s2 : 0.0;
+  const double noise_var = s.setup.spec.noise_rms_m_s2 * s.setup.spec.noise_rms_m_s2;
+  for (size_t i = from; i < samples.size(); ++i) {
+    const auto& x = samples[i];
+    const ros::Time stamp(x.time_s);
+    sensor_msgs::Imu imu;
+    imu.header.stamp = stamp;
+    imu.header.frame_id = frame;
+    imu.orientation_covariance[0] = -1.0;       // no orientation estimate (sensor_msgs/Imu rule)
+    imu.angular_velocity_covariance[0] = -1.0;  // no gyroscope
+    imu.linear_acceleration.x = x.acceleration_m_s2[0];
+    imu.linear_acceleration.y = x.acceleration_m_s2[1];
+    imu.linear_acceleration.z = x.acceleration_m_s2[2] + g;
+    // Diagonal noise variance; all zeros means "unknown" per the message, used for a perfect sensor.
+    imu.linear_acceleration_covariance[0] = imu.linear_acceleration_covariance[4] =
+        imu.linear_acceleration_covariance[8] = noise_var;
+    s.imu.publish(imu);
+    geometry_msgs::Vector3Stamped v;
+    v.header = imu.header;
+    v.vector.x = x.velocity_m_s[0];
+    v.vector.y = x.velocity_m_s[1];
+    v.vector.z = x.velocity_m_s[2];
+    s.velocity.publish(v);
+    s.pending.push_back(x);
+    ++s.published;
+    if (s.published % metrics_every_ == 0) publishMetrics(s, x.time_s);
+  }
+}
+
+void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
+  const signal::MonitorSnapshot m = s.sensor->metrics();
+  railvib::VibrationMetrics msg;
+  msg.header.stamp = ros::Time(time_s);
+  msg.header.frame_id = "sensor_" + s.setup.spec.name;
+  msg.sensor_name = s.setup.spec.name;
+  msg.kb_f = m.kb_f.empty() ? 0.0 : *std::max_element(m.kb_f.begin(), m.kb_f.end());
+  msg.kb_f_max = m.kb_fmax_all;
+  msg.ppv_m_s = m.ppv.vector_peak_mm_s * 1e-3;
+  size_t worst = 2;  // vertical unless another component is closer to its limit
+  for (size_t c = 0; c < m.ppv.components.size(); ++c) {
+    if (m.ppv.components[c].ratio > m.ppv.components[worst].ratio) worst = c;
+  }
+  msg.ppv_vertical_m_s = m.ppv.components.size() > 2 ? m.ppv.components[2].ppv_mm_s * 1e-3 : 0.0;
+  msg.dominant_frequency_hz = m.ppv.components.size() > worst ? m.ppv.components[worst].frequency_hz : 0.0;
+  msg.din4150_3_limit_m_s = m.ppv.components.size() > worst ? m.ppv.components[worst].limit_mm_s * 1e-3 : 0.0;
+  for (size_t b = 0; b < m.bands.size(); ++b) {
+    msg.third_octave_center_hz.push_back(m.bands[b].nominal_hz);
+    msg.third_octave_level_db.push_back(m.third_octave_running_db.size() > 2 ? m.third_octave_running_db[2][b] : 0.0);
+  }
+  // Verdicts: DIN 4150-2 (people in buildings) on KB_Fmax; DIN 4150-3 (structures) on PPV for house sensors.
+  const auto guide =
+      signal::din4150_2Residential(config_.night ? signal::Din4150_2Period::Night : signal::Din4150_2Period::Day);
+  uint8_t level = railvib::VibrationMetrics::VERDICT_OK;
+  std::string reason = "within guide values";
+  if (m.kb_fmax_all > guide.a_o) {
+    level = railvib::VibrationMetrics::VERDICT_ERROR;
+    reason = "DIN 4150-2: KB_Fmax above A_o";
+  } else if (m.kb_fmax_all > guide.a_u) {
+    level = railvib::VibrationMetrics::VERDICT_WARN;
+    reason = "DIN 4150-2: KB_Fmax above A_u (KB_FTr check needed)";
+  }
+  if (s.setup.source == "building" && m.ppv.exceeded) {
+    level = railvib::VibrationMetrics::VERDICT_ERROR;
+    reason = "DIN 4150-3: PPV above the residential guideline";
+  }
+  msg.verdict = level;
+  s.metrics.publish(msg);
+
+  diagnostic_msgs::DiagnosticArray diag;
+  diag.header.stamp = msg.header.stamp;
+  diagnostic_msgs::DiagnosticStatus status;
+  status.name = "railvib/virtual_sensor/" + s.setup.spec.name;
+  status.hardware_id = msg.header.frame_id;
+  status.level = level == railvib::VibrationMetrics::VERDICT_ERROR  ? diagnostic_msgs::DiagnosticStatus::ERROR
+                 : level == railvib::VibrationMetrics::VERDICT_WARN ? diagnostic_msgs::DiagnosticStatus::WARN
+                                                                    : diagnostic_msgs::DiagnosticStatus::OK;
+  status.message = reason;
+  auto kv = [&](const std::string& k, double v) {
+    diagnostic_msgs::KeyValue p;
+    p.key = k;
+    p.value = std::to_string(v);
+    status.values.push_back(p);
+  };
+  kv("KB_F", msg.kb_f);
+  kv("KB_Fmax", msg.kb_f_max);
+  kv("PPV [mm/s]", msg.ppv_m_s * 1e3);
+  kv("dominant frequency [Hz]", msg.dominant_frequency_hz);
+  kv("samples", static_cast<double>(s.published));
+  diag.status.push_back(status);
+  diagnostics_publisher_.publish(diag);
+}
+
+void VirtualSensorNode::publishBlocks(bool end_of_stream) {
+  size_t ready = sensors_.front().pending.size();
+  for (const auto& s : sensors_) ready = std::min(ready, s.pending.size());
+  size_t offset = 0;
+  while (ready - offset >= block_samples_ || (end_of_stream && offset <= ready)) {
+    const size_t count = std::min(block_samples_, ready - offset);
+    const bool last = end_of_stream && offset + count == ready;
+    railvib::SensorSamples block;
+    block.header.stamp = ros::Time(static_cast<double>(next_block_index_) / config_.sample_rate_hz);
+    block.header.frame_id = "track";
+    block.first_sample_index = next_block_index_;
+    block.end_of_stream = last;
+    block.sample_period_s = 1.0 / config_.sample_rate_hz;
+    block.sample_count = static_cast<uint32_t>(count);
+    block.sensor_count = static_cast<uint32_t>(sensors_.size());
+    for (const auto& s : sensors_) block.sensor_names.push_back(s.setup.spec.name);
+    for (size_t k = offset; k < offset + count; ++k) {
+      for (const auto& s : sensors_) {
+        block.velocity_m_s.insert(block.velocity_m_s.end(), s.pending[k].velocity_m_s, s.pending[k].velocity_m_s + 3);
+        block.acceleration_m_s2.insert(block.acceleration_m_s2.end(), s.pending[k].acceleration_m_s2,
+                                       s.pending[k].acceleration_m_s2 + 3);
+      }
+    }
+    samples_publisher_.publish(block);
+    next_block_index_ += count;
+    offset += count;
+    if (last) break;
+  }
+  for (auto& s : sensors_) s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<long>(offset));
+}
+
+}  // namespace railvib::ros_io
