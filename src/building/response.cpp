@@ -16,9 +16,9 @@ struct BuildingResponseSolver::Impl {
   int nq = 0;          // footprint input components
   Eigen::SparseMatrix<double> kff;
   Eigen::VectorXd mff;
-  Eigen::MatrixXd p;   // constrained DOF x footprint component
-  Eigen::MatrixXd g;   // K_fc P
-  Eigen::MatrixXd ms;  // M_ff S, S = -K_ff^-1 G (quasi-static influence)
+  Eigen::SparseMatrix<double, Eigen::RowMajor> p;  // constrained DOF x footprint component
+  Eigen::SparseMatrix<double> g;                   // K_fc P
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> kllt;  // K_ff (quasi-static response)
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> keff;
   double keff_dt = -1.0;
   Eigen::VectorXd u, v, a, q, qd;
@@ -54,7 +54,7 @@ BuildingResponseSolver::BuildingResponseSolver(const BuildingModel& model, doubl
   const double x0 = footprint_.front().x_building_m, x1 = footprint_.back().x_building_m;
   const double y0 = footprint_.front().y_building_m, y1 = footprint_.back().y_building_m;
   const double dx = (x1 - x0) / (nx - 1), dy = (y1 - y0) / (ny - 1);
-  s.p = Eigen::MatrixXd::Zero(cd.size(), s.nq);
+  std::vector<Eigen::Triplet<double>> tp;
   for (size_t r = 0; r < cd.size(); ++r) {
     const int node = cd[r] / 6, comp = cd[r] % 6;
     const Eigen::Vector3d& x = model.mesh().nodes[node];
@@ -71,21 +71,23 @@ BuildingResponseSolver::BuildingResponseSolver(const BuildingModel& model, doubl
           case 0:
           case 1:
           case 2:
-            s.p(r, 3 * k + comp) += w;
+            tp.emplace_back(r, 3 * k + comp, w);
             break;
           case 3:  // rx = d uz / dy
-            s.p(r, 3 * k + 2) += dwdy;
+            tp.emplace_back(r, 3 * k + 2, dwdy);
             break;
           case 4:  // ry = -d uz / dx
-            s.p(r, 3 * k + 2) -= dwdx;
+            tp.emplace_back(r, 3 * k + 2, -dwdx);
             break;
           default:  // rz = (d uy/dx - d ux/dy) / 2
-            s.p(r, 3 * k + 1) += 0.5 * dwdx;
-            s.p(r, 3 * k + 0) -= 0.5 * dwdy;
+            tp.emplace_back(r, 3 * k + 1, 0.5 * dwdx);
+            tp.emplace_back(r, 3 * k + 0, -0.5 * dwdy);
         }
       }
     }
   }
+  s.p.resize(static_cast<int>(cd.size()), s.nq);
+  s.p.setFromTriplets(tp.begin(), tp.end());
   // Partition K.
   std::vector<Eigen::Triplet<double>> tff, tfc;
   const Eigen::SparseMatrix<double>& k = model.stiffness();
@@ -103,11 +105,9 @@ BuildingResponseSolver::BuildingResponseSolver(const BuildingModel& model, doubl
   kfc.setFromTriplets(tfc.begin(), tfc.end());
   s.mff.resize(s.nf);
   for (int i = 0; i < s.nf; ++i) s.mff[i] = model.mass()[model.freeDofs()[i]];
-  s.g = kfc * s.p;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> kllt(s.kff);
-  if (kllt.info() != Eigen::Success) throw std::runtime_error("building response: K_ff is not positive definite");
-  const Eigen::MatrixXd sqs = -kllt.solve(s.g);
-  s.ms = s.mff.asDiagonal() * sqs;
+  s.g = kfc * Eigen::SparseMatrix<double>(s.p);
+  s.kllt.compute(s.kff);
+  if (s.kllt.info() != Eigen::Success) throw std::runtime_error("building response: K_ff is not positive definite");
   reset();
 }
 
@@ -147,7 +147,12 @@ void BuildingResponseSolver::step(const Eigen::VectorXd& qd_new, double dt) {
   const Eigen::VectorXd q_new = s.q + 0.5 * dt * (s.qd + qd_new);
   // Loads from the foundation: elastic and damping coupling, and the mass-proportional
   // damping referred to the quasi-static motion.
-  Eigen::VectorXd rhs = -s.g * (q_new + beta_ * qd_new) + alpha_ * (s.ms * qd_new);
+  Eigen::VectorXd rhs = -(s.g * (q_new + beta_ * qd_new));
+  if (alpha_ != 0.0) {
+    const Eigen::VectorXd gqd = s.g * qd_new;
+    const Eigen::VectorXd v_qs = -s.kllt.solve(gqd);  // quasi-static velocity of the free DOFs
+    rhs += alpha_ * s.mff.cwiseProduct(v_qs);
+  }
   const Eigen::VectorXd pm = a0 * s.u + a2 * s.v + s.a;  // a3 = 1
   const Eigen::VectorXd pc = a1 * s.u + s.v;             // a4 = 1, a5 = 0
   rhs += s.mff.cwiseProduct(pm) + alpha_ * s.mff.cwiseProduct(pc) + beta_ * (s.kff * pc);
@@ -167,7 +172,7 @@ Eigen::VectorXd BuildingResponseSolver::output() const {
     for (int c = 0; c < 3; ++c) {
       const int g = 6 * points_[i].node + c;
       const int f = model_.freeIndex()[g];
-      out[3 * i + c] = f >= 0 ? s.v[f] : s.p.row(s.constrained_row[g]).dot(s.qd);
+      out[3 * i + c] = f >= 0 ? s.v[f] : s.p.row(s.constrained_row[g]) * s.qd;
     }
   }
   return out;

@@ -120,7 +120,21 @@ void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& lay
 }
 
 void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
-  if (failed_ || finished_) return;
+  if (failed_) return;
+  if (source.ended && block.first_sample_index == 0) {
+    // A looping replay restarts the stream: start a new pass of this source's sensors.
+    source.ended = false;
+    source.tracker = std::make_unique<SampleIndexTracker>(source.name);
+    for (auto& s : sensors_) {
+      if (s.setup.source != source.name) continue;
+      s.sensor.reset();
+      s.pending.clear();
+      s.published = 0;
+    }
+    finished_ = false;
+    next_block_index_ = 0;
+  }
+  if (finished_) return;
   try {
     if (!source.has_layout) throw std::runtime_error(source.name + " data arrived before its point layout");
     source.tracker->accept(block.first_sample_index, block.sample_count);

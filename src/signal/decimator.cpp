@@ -302,10 +302,17 @@ void Decimator::emitReady(std::vector<double>& out, bool flushing) {
     const size_t base = out.size();
     out.resize(base + nc, 0.0);
     double wsum = 0.0;
+    double* o = out.data() + base;
+    const bool inside = lo >= buf_first_ && hi <= last_in;
     for (int64_t n = lo; n <= hi; ++n) {
       const double w = kernel((static_cast<double>(n) - p) / fi);
       wsum += w;
-      for (size_t c = 0; c < nc; ++c) out[base + c] += w * inputAt(n, c);
+      if (inside) {
+        const double* xn = buf_.data() + static_cast<size_t>(n - buf_first_) * nc;
+        for (size_t c = 0; c < nc; ++c) o[c] += w * xn[c];
+      } else {
+        for (size_t c = 0; c < nc; ++c) o[c] += w * inputAt(n, c);
+      }
     }
     for (size_t c = 0; c < nc; ++c) out[base + c] /= wsum;
     ++k;

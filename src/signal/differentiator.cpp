@@ -17,8 +17,8 @@ Differentiator::Differentiator(double rate_hz, size_t channels, double t0_s, int
   if (!(rate_hz > 0.0)) throw std::invalid_argument("Differentiator: rate must be > 0");
   if (channels == 0) throw std::invalid_argument("Differentiator: at least one channel");
   if (half_width < 4 || half_width > 512) throw std::invalid_argument("Differentiator: half width in [4, 512]");
-  const double wc = 2.0 * kPi * 0.45;
-  const double beta = 7.0;
+  const double wc = 2.0 * kPi * 0.47;
+  const double beta = 10.0;
   h_.assign(2 * static_cast<size_t>(m_) + 1, 0.0);
   for (int j = 1; j <= m_; ++j) {
     const double dj = static_cast<double>(j);

@@ -211,24 +211,18 @@ LambResult runLamb(const LambSpec& spec) {
   return res;
 }
 
-ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m, double layer_alpha_1_s) {
+ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m,
+                                       const std::vector<double>& layer_alpha_1_s) {
   ReflectionResult out;
   LambSpec ref;
   ref.distances_m = {6.0};
-  ref.half_width_m = 3.0 * small_half_width_m;
-  ref.depth_m = 3.0 * small_half_width_m;
+  ref.half_width_m = 2.5 * small_half_width_m;
+  ref.depth_m = 2.5 * small_half_width_m;
   // Window: until the Rayleigh pulse reflected by the reference box's side could come back.
-  const double cr = ref.material.vr();
   out.r_m = 6.0;
-  out.window_s = (2.0 * ref.half_width_m - out.r_m) / cr;
+  out.window_s = (2.0 * ref.half_width_m - out.r_m) / ref.material.vr();
   ref.duration_s = out.window_s;
   const LambResult a = runLamb(ref);
-  LambSpec small = ref;
-  small.half_width_m = small.depth_m = small_half_width_m;
-  const LambResult b = runLamb(small);
-  small.absorbing_layer_m = layer_m;
-  small.absorbing_layer_alpha_1_s = layer_alpha_1_s;
-  const LambResult c = runLamb(small);
   auto diff = [&](const LambResult& x) {
     double dmax = 0.0, ref_max = 0.0;
     const size_t n = std::min(x.w_fe[0].size(), a.w_fe[0].size());
@@ -238,10 +232,14 @@ ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m
     }
     return dmax / ref_max;
   };
-  out.lysmer_only = diff(b);
-  out.with_layer = diff(c);
-  out.layer_m = layer_m;
-  out.layer_alpha_1_s = layer_alpha_1_s;
+  LambSpec small = ref;
+  small.half_width_m = small.depth_m = small_half_width_m;
+  out.lysmer_only = diff(runLamb(small));
+  for (double alpha : layer_alpha_1_s) {
+    small.absorbing_layer_m = layer_m;
+    small.absorbing_layer_alpha_1_s = alpha;
+    out.with_layer.push_back(diff(runLamb(small)));
+  }
   return out;
 }
 

@@ -187,7 +187,7 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   addConfigOptions(args);
   args.option("foundation", "clm | winkler | rigid (default: track.foundation.model)")
       .option("load", "force per wheel and rail (N) at every axle (default: T2000 static wheel loads)")
-      .option("single", "one load only (at the front axle position) instead of the T2000 axles: yes|no", "no")
+      .flag("single", "one load only (at the front axle position) instead of the T2000 axles")
       .option("speed", "speed (m/s) (default: simulation.speed_m_s)")
       .option("duration", "simulated time (s) (default: simulation.duration_s)")
       .option("start", "front axle position at t = 0 (m) (default: simulation.front_axle_start_m)")
@@ -209,7 +209,7 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   const double rate = args.has("rate") ? positiveOption(args, "rate") : params.load_sample_rate_hz;
   if (!std::isfinite(speed) || speed < 0.0) throw ArgError("--speed must be >= 0");
   if (rate > 1.0 / dt * (1.0 + 1e-9)) throw ArgError("--rate must not exceed the step rate 1/dt");
-  const bool single = args.get("single") == "yes";
+  const bool single = args.isSet("single");
 
   track::MovingLoadRun run;
   run.dt_s = dt;

@@ -64,8 +64,8 @@ struct BuildingParams {
   double damping_f2_hz = 50.0;
   double max_time_step_s = 1.0e-3;
 
-  int footprint_nx = 5;
-  int footprint_ny = 4;
+  int footprint_nx = 21;
+  int footprint_ny = 15;
   std::vector<NamedPoint> response_points;
   std::vector<Opening> openings;
 

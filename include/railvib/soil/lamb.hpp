@@ -89,9 +89,9 @@ LambResult runLamb(const LambSpec& spec);
 struct ReflectionResult {
   double r_m = 0.0, window_s = 0.0;
   double lysmer_only = 0.0;
-  double with_layer = 0.0;
-  double layer_m = 0.0, layer_alpha_1_s = 0.0;
+  std::vector<double> with_layer;  // per alpha
 };
-ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m, double layer_alpha_1_s);
+ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m,
+                                       const std::vector<double>& layer_alpha_1_s);
 
 }  // namespace railvib::soil

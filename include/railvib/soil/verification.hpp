@@ -53,7 +53,8 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
 struct ThroughputResult {
   size_t elements = 0;
   int threads = 0;
-  double element_updates_per_s = 0.0;
+  double element_updates_per_s = 0.0;       // wall clock
+  double element_updates_per_cpu_s = 0.0;   // per CPU second of the process (user + sys, all threads)
   double seconds_per_step = 0.0;
 };
 /// Time `steps` steps of an nx x ny x nz homogeneous box with Lysmer faces.

@@ -1,21 +1,16 @@
-// railvib/track: the track as a stream processor, for the track node.
+// railvib/track: the track as a stream processor, contact-force samples in,
+// ballast-to-soil load samples out at the soil's rate. This is the whole
+// computation of the track node; the node only moves messages.
 //
-// In: contact-force samples at the step rate 1/dt (per sample and wheel: the
-// position along the track and the force, N, compression positive = downward
-// on the rail). Sample n stands for time n dt. Sample 0 sets the initial state
-// (static equilibrium under its loads); every later sample is the load at the
-// end of one Newmark step. Out: ballast-to-soil loads per sleeper, BOTH rails
-// (2 x half track, N, downward), anti-alias decimated to `rate_hz` by
-// railvib::signal::Decimator; output sample k stands for time k / rate_hz,
-// frames interleaved [sample][sleeper]. Wheels outside the rail are ignored
-// (counted). No ROS here; the node only moves samples in and out.
-//
-// Header-only on purpose: the track library does not link the signal library;
-// whoever uses this class links the whole core (railvib_core).
+// Contact sample i stands for time i * dt (i = 0 is t = 0). Sample 0 sets the
+// static equilibrium the run starts from (no start-up transient); each later
+// sample advances the Newmark integrator by one step with the loads acting at
+// the end of the step. The per-step soil loads (both rails: 2 x half track,
+// N, downward positive) go through the anti-alias decimator of
+// railvib/signal, whose output sample k stands for time k / load_rate exactly.
 #pragma once
 
-#include <memory>
-#include <stdexcept>
+#include <cstdint>
 #include <vector>
 
 #include "railvib/signal/decimator.hpp"
@@ -25,62 +20,31 @@ namespace railvib::track {
 
 class SoilLoadStream {
  public:
-  SoilLoadStream(const TrackParams& params, double dt_s, double rate_hz)
-      : stepper_(params, dt_s), rate_hz_(rate_hz) {
-    if (!(rate_hz > 0.0) || rate_hz > (1.0 / dt_s) * (1.0 + 1e-9)) {
-      throw std::invalid_argument("SoilLoadStream: the load rate must be in (0, 1/dt]");
-    }
-    signal::DecimatorSpec spec;
-    spec.input_rate_hz = 1.0 / dt_s;
-    spec.output_rate_hz = rate_hz;
-    decimator_ = std::make_unique<signal::Decimator>(spec, static_cast<size_t>(stepper_.sleeperCount()), 0.0);
-  }
+  /// load_sample_rate_hz must divide 1/dt_s into an integer ratio >= 1.
+  SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz);
 
-  const TrackModel& model() const { return stepper_.model(); }
-  const std::vector<double>& sleeperPositions() const { return stepper_.sleeperPositions(); }
-  int sleeperCount() const { return stepper_.sleeperCount(); }
-  double timeStep() const { return stepper_.timeStep(); }
-  double loadSamplePeriod() const { return 1.0 / rate_hz_; }
-  double loadSampleRate() const { return rate_hz_; }
-  /// Time of the last input sample consumed (0 before the first).
-  double time() const { return stepper_.time(); }
-  uint64_t inputCount() const { return inputs_; }
-  long ignoredLoadCount() const { return stepper_.ignoredLoadCount(); }
-  /// Latency of the decimated output (s).
-  double latencySeconds() const { return decimator_->halfWidthSeconds(); }
-  const TrackStepper& stepper() const { return stepper_; }
-
-  /// Consume `sample_count` samples of `wheel_count` wheels (arrays [sample][wheel]);
-  /// append the completed decimated frames ([sample][sleeper]) to `out`.
-  /// Returns the number of frames appended.
+  /// Push contact samples, row-major [sample][wheel]: positions (m) and forces (N, compression positive).
+  /// Completed soil-load samples, row-major [sample][sleeper], are appended to `out`; returns their count.
   size_t push(size_t sample_count, size_t wheel_count, const double* position_m, const double* force_n,
-              std::vector<double>& out) {
-    size_t frames = 0;
-    for (size_t s = 0; s < sample_count; ++s) {
-      loads_.resize(wheel_count);
-      for (size_t w = 0; w < wheel_count; ++w) {
-        loads_[w] = PointLoad{position_m[s * wheel_count + w], force_n[s * wheel_count + w]};
-      }
-      if (inputs_ == 0) {
-        stepper_.start(loads_, 0.0);
-      } else {
-        stepper_.step(loads_);
-      }
-      ++inputs_;
-      frames += decimator_->push(stepper_.soilLoadsBothRails().data(), 1, out);
-    }
-    return frames;
-  }
+              std::vector<double>& out);
+  /// End of the contact stream: emit the remaining soil-load samples.
+  size_t flush(std::vector<double>& out);
 
-  /// End of stream: emit the remaining decimated frames.
-  size_t flush(std::vector<double>& out) { return decimator_->flush(out); }
+  int sleeperCount() const { return stepper_.sleeperCount(); }
+  const std::vector<double>& sleeperPositions() const { return stepper_.sleeperPositions(); }
+  double timeStep() const { return stepper_.timeStep(); }
+  double loadSamplePeriod() const { return 1.0 / decimator_.outputRate(); }
+  uint64_t contactSamplesConsumed() const { return contact_samples_; }
+  uint64_t loadSamplesEmitted() const { return decimator_.outputCount(); }
+  /// Simulated time of the last contact sample consumed (s).
+  double time() const { return stepper_.time(); }
+  const TrackStepper& stepper() const { return stepper_; }
 
  private:
   TrackStepper stepper_;
-  double rate_hz_;
-  std::unique_ptr<signal::Decimator> decimator_;
+  signal::Decimator decimator_;
   std::vector<PointLoad> loads_;
-  uint64_t inputs_ = 0;
+  uint64_t contact_samples_ = 0;
 };
 
 }  // namespace railvib::track

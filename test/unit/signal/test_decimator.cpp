@@ -170,3 +170,33 @@ TEST(StreamInterpolator, BandLimitedSignalAccuracy) {
     std::printf("interpolator %s: max error %.2e (signal amplitude ~1.5)\n", hf ? "sinc(16)" : "cubic", worst);
   }
 }
+
+TEST(Decimator, RefusesBadInputAndHandlesEdges) {
+  EXPECT_THROW(Decimator({1000.0, 2000.0}, 1), std::invalid_argument);  // up-sampling
+  EXPECT_THROW(Decimator({1000.0, 0.0}, 1), std::invalid_argument);
+  EXPECT_THROW(Decimator({1000.0, 100.0, 0.6}, 1), std::invalid_argument);
+  EXPECT_THROW(Decimator({1000.0, 100.0}, 0), std::invalid_argument);
+  Decimator same({1000.0, 1000.0}, 2);  // ratio 1: identity, no latency
+  EXPECT_EQ(same.latencyInputSamples(), 0u);
+  std::vector<double> x{1, 2, 3, 4, 5, 6}, y;
+  EXPECT_EQ(same.push(x, y), 3u);
+  EXPECT_EQ(y, x);
+  Decimator empty({1000.0, 100.0}, 1);
+  std::vector<double> z;
+  EXPECT_EQ(empty.flush(z), 0u);
+  EXPECT_THROW(empty.push(x, z), std::logic_error);
+}
+
+TEST(StreamInterpolator, AvailabilityAndHold) {
+  StreamInterpolator ip(100.0, 1, 1.0);
+  EXPECT_FALSE(ip.canEvaluate(0.0));
+  std::vector<double> x(10, 3.0);
+  ip.push(x);
+  EXPECT_NEAR(ip.availableUntil(), 1.0 + 7.0 / 100.0, 1e-12);
+  EXPECT_NEAR(ip.evaluate(0.5)[0], 3.0, 1e-12);  // before t0: first value held
+  EXPECT_THROW(ip.evaluate(1.08), std::out_of_range);
+  ip.finish();
+  EXPECT_NEAR(ip.evaluate(5.0)[0], 3.0, 1e-12);  // after the end: last value held
+  ip.discardBefore(1.05);
+  EXPECT_THROW(ip.evaluate(1.0), std::out_of_range);
+}

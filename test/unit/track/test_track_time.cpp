@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "railvib/track/soil_load_stream.hpp"
 #include "railvib/track/track_analysis.hpp"
 #include "railvib/track/track_newmark.hpp"
 #include "railvib/track/track_stepper.hpp"
@@ -219,6 +220,40 @@ TEST(TrackStepper, SoilLoadsAreTwiceTheHalfTrack) {
   EXPECT_EQ(st.ignoredLoadCount(), 1);
   EXPECT_EQ(st.stepCount(), 1);
   EXPECT_NEAR(st.time(), 1.0e-4, 1e-15);
+}
+
+}  // namespace
+}  // namespace railvib::track
+
+namespace railvib::track {
+namespace {
+
+// The stream the track node wraps: constant loads in, decimated soil loads
+// (both rails) out; in statics they sum to twice the applied wheel loads.
+TEST(TrackSoilLoadStream, DecimatedLoadsCarryTheAppliedLoad) {
+  const TrackParams p =
+      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=4"});
+  SoilLoadStream stream(p, 1.0e-4, 1000.0);
+  EXPECT_DOUBLE_EQ(stream.loadSamplePeriod(), 1.0e-3);
+  const size_t wheels = 2, samples = 3000;
+  std::vector<double> x(samples * wheels), f(samples * wheels), out;
+  for (size_t s = 0; s < samples; ++s) {
+    x[s * wheels] = -2.0 + 1.0e-4 * s;  // 1 m/s
+    x[s * wheels + 1] = 1.0 + 1.0e-4 * s;
+    f[s * wheels] = 20e3;
+    f[s * wheels + 1] = 30e3;
+  }
+  size_t frames = stream.push(samples, wheels, x.data(), f.data(), out);
+  frames += stream.flush(out);
+  const size_t ns = static_cast<size_t>(stream.sleeperCount());
+  ASSERT_EQ(out.size(), frames * ns);
+  EXPECT_NEAR(static_cast<double>(frames), 300.0, 1.0);
+  for (size_t k = 0; k < frames; ++k) {
+    double sum = 0.0;
+    for (size_t i = 0; i < ns; ++i) sum += out[k * ns + i];
+    EXPECT_NEAR(sum / 100e3, 1.0, 1e-3) << "frame " << k;
+  }
+  EXPECT_NEAR(stream.time(), 1.0e-4 * (samples - 1), 1e-12);
 }
 
 }  // namespace
