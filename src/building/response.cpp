@@ -172,7 +172,14 @@ Eigen::VectorXd BuildingResponseSolver::output() const {
     for (int c = 0; c < 3; ++c) {
       const int g = 6 * points_[i].node + c;
       const int f = model_.freeIndex()[g];
-      out[3 * i + c] = f >= 0 ? s.v[f] : s.p.row(s.constrained_row[g]) * s.qd;
+      if (f >= 0) {
+        out[3 * i + c] = s.v[f];
+      } else {
+        double sum = 0.0;
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(s.p, s.constrained_row[g]); it; ++it)
+          sum += it.value() * s.qd[it.col()];
+        out[3 * i + c] = sum;
+      }
     }
   }
   return out;

@@ -15,7 +15,7 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const double dt_s = simulation.number("time_step_s", Range::positive());
   const double rate_hz = track_section.section("output").number("load_sample_rate_hz", Range::positive());
   stream_ = std::make_unique<track::SoilLoadStream>(params, dt_s, rate_hz);
-  progress_ = std::make_unique<ProgressReporter>("track", simulation.number("duration_s", Range::positive()));
+  status_ = std::make_unique<NodeStatus>(nh, "track", simulation.number("duration_s", Range::positive()));
 
   double block_duration_s = 0.05;
   int required_subscribers = 1;
@@ -44,6 +44,7 @@ void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {
     consume(*msg);
   } catch (const std::exception& e) {
     ROS_FATAL("track: %s", e.what());
+    status_->error(e.what());
     failed_ = true;
     ros::shutdown();
   }
@@ -67,8 +68,9 @@ void TrackNode::consume(const railvib::ContactForces& block) {
     ended_ = true;
   }
   publishPending(ended_);
-  progress_->update(stream_->time(), ended_);
-  if (ended_) progress_->finish(stream_->time());
+  status_->countSamples("contact_forces in", msg->sample_count);
+  status_->update(stream_->time(), ended_);
+  if (ended_) status_->finish(stream_->time());
 }
 
 void TrackNode::publishPending(bool end_of_stream) {
@@ -89,6 +91,7 @@ void TrackNode::publishPending(bool end_of_stream) {
     block.force_n.assign(pending_.begin() + static_cast<long>(offset * sleepers),
                          pending_.begin() + static_cast<long>((offset + count) * sleepers));
     loads_publisher_.publish(block);
+    status_->countSamples("soil_loads out", count);
     next_load_index_ += count;
     offset += count;
     if (last) break;

@@ -9,9 +9,9 @@
 
 #include "railvib/ContactForces.h"
 #include "railvib/SoilLoads.h"
-#include "railvib/common/progress.hpp"
 #include "railvib/common/sample_stream.hpp"
 #include "railvib/ros/block_publisher.hpp"
+#include "railvib/ros/node_status.hpp"
 #include "railvib/track/soil_load_stream.hpp"
 
 namespace railvib::ros_io {
@@ -36,7 +36,7 @@ class TrackNode {
   std::vector<double> pending_;  // soil-load samples not yet published, [sample][sleeper]
   uint64_t next_load_index_ = 0;
   size_t block_samples_ = 100;
-  std::unique_ptr<ProgressReporter> progress_;
+  std::unique_ptr<NodeStatus> status_;
   bool ended_ = false;
   bool failed_ = false;
 };

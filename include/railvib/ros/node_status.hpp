@@ -1,0 +1,41 @@
+// railvib ROS layer: per-node status on /diagnostics (about once per wall
+// second): progress, simulated time, real-time factor, ETA and the rate of
+// every stream the node consumes or produces (samples per wall second).
+#pragma once
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/ros.h>
+
+#include <map>
+#include <string>
+
+#include "railvib/common/progress.hpp"
+
+namespace railvib::ros_io {
+
+class NodeStatus {
+ public:
+  NodeStatus(ros::NodeHandle& nh, std::string node_name, double total_sim_s);
+
+  /// Count samples of a stream (in or out).
+  void countSamples(const std::string& stream, uint64_t samples) { streams_[stream].samples += samples; }
+  /// Report progress at simulated time t (prints the console line and publishes diagnostics when due).
+  void update(double sim_time_s, bool force = false);
+  void finish(double sim_time_s);
+  /// Mark an error (published as ERROR with the message).
+  void error(const std::string& message);
+
+ private:
+  void publish(double sim_time_s, uint8_t level, const std::string& message);
+  struct StreamCount {
+    uint64_t samples = 0;
+    uint64_t samples_at_last = 0;
+  };
+  std::string name_;
+  ProgressReporter progress_;
+  ros::Publisher publisher_;
+  std::map<std::string, StreamCount> streams_;
+  ros::WallTime last_publish_;
+};
+
+}  // namespace railvib::ros_io
