@@ -20,7 +20,8 @@ void writeVtk(const BuildingModel& model, const std::vector<Mode>& modes, const 
   os << "POINTS " << mesh.nodes.size() << " double\n";
   for (const auto& x : mesh.nodes) os << x.x() << " " << x.y() << " " << x.z() << "\n";
   os << "CELLS " << mesh.elements.size() << " " << 5 * mesh.elements.size() << "\n";
-  for (const auto& e : mesh.elements) os << "4 " << e.nodes[0] << " " << e.nodes[1] << " " << e.nodes[2] << " " << e.nodes[3] << "\n";
+  for (const auto& e : mesh.elements)
+    os << "4 " << e.nodes[0] << " " << e.nodes[1] << " " << e.nodes[2] << " " << e.nodes[3] << "\n";
   os << "CELL_TYPES " << mesh.elements.size() << "\n";
   for (size_t i = 0; i < mesh.elements.size(); ++i) os << "9\n";
   os << "CELL_DATA " << mesh.elements.size() << "\nSCALARS group int 1\nLOOKUP_TABLE default\n";
@@ -68,7 +69,8 @@ void writeInp(const BuildingModel& model, int mode_count, const std::string& pat
   }
   for (const auto& sec : mesh.sections) {
     os << "*MATERIAL, NAME=" << sec.name << "_mat\n*ELASTIC\n"
-       << sec.shell.young_modulus_pa << ", " << sec.shell.poisson << "\n*DENSITY\n" << sec.shell.density_kg_m3 << "\n";
+       << sec.shell.young_modulus_pa << ", " << sec.shell.poisson << "\n*DENSITY\n"
+       << sec.shell.density_kg_m3 << "\n";
   }
   for (size_t s = 0; s < mesh.sections.size(); ++s) {
     bool any = false;
@@ -81,7 +83,8 @@ void writeInp(const BuildingModel& model, int mode_count, const std::string& pat
   std::vector<size_t> fixed;
   for (size_t n = 0; n < mesh.nodes.size(); ++n)
     if (model.foundationNode()[n]) fixed.push_back(n + 1);
-  for (size_t i = 0; i < fixed.size(); ++i) os << fixed[i] << (i + 1 == fixed.size() ? "" : (i % 16 == 15 ? ",\n" : ", "));
+  for (size_t i = 0; i < fixed.size(); ++i)
+    os << fixed[i] << (i + 1 == fixed.size() ? "" : (i % 16 == 15 ? ",\n" : ", "));
   os << "\n*BOUNDARY\nFOUNDATION, 1, 3\n";
   os << "*STEP\n*FREQUENCY\n" << mode_count << "\n*NODE FILE\nU\n*END STEP\n";
   file.commit();

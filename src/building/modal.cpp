@@ -1,8 +1,8 @@
 #include "railvib/building/modal.hpp"
 
-#include <Eigen/CholmodSupport>
 #include <Spectra/SymEigsSolver.h>
 
+#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -134,7 +134,11 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
     }
     const int mx = signChanges(along_x) + 1;
     const int my = signChanges(along_y) + 1;
-    const std::string name = best_slab == "roof" ? "roof slab" : best_slab == "slab_0" ? "ground floor" : best_slab == "base_slab" ? "base slab" : best_slab == "slab_1" ? "first floor" : best_slab;
+    const std::string name = best_slab == "roof"        ? "roof slab"
+                             : best_slab == "slab_0"    ? "ground floor"
+                             : best_slab == "base_slab" ? "base slab"
+                             : best_slab == "slab_1"    ? "first floor"
+                                                        : best_slab;
     os << name << " bending (" << mx << "," << my << ")";
     if (wall_e > 0.3 * total) os << " + wall flexure";
   } else {
@@ -199,7 +203,8 @@ ModalResult modalAnalysis(const BuildingModel& model, const ModalOptions& opt) {
     Spectra::SymEigsSolver<ShiftInvertOp> solver(op, nev, ncv);
     solver.init();
     solver.compute(Spectra::SortRule::LargestAlge, 2000, 1e-10, Spectra::SortRule::LargestAlge);
-    if (solver.info() != Spectra::CompInfo::Successful) throw std::runtime_error("modal analysis: Lanczos did not converge");
+    if (solver.info() != Spectra::CompInfo::Successful)
+      throw std::runtime_error("modal analysis: Lanczos did not converge");
     evals = solver.eigenvalues();
     evecs = solver.eigenvectors();
     const double last_lambda = sigma + 1.0 / evals[evals.size() - 1];

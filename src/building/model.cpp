@@ -24,7 +24,9 @@ ShellSection shellOf(const ShellMaterial& m, double t) {
   return s;
 }
 
-double overlap(double a0, double a1, double b0, double b1) { return std::max(0.0, std::min(a1, b1) - std::max(a0, b0)); }
+double overlap(double a0, double a1, double b0, double b1) {
+  return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
+}
 
 }  // namespace
 
@@ -52,13 +54,14 @@ BuildingMesh buildMesh(const BuildingParams& p) {
     double z;
     std::string group;  // empty: no slab
     int section;
-    double support_t;   // thickness of the walls bounding the slab (clear interior)
+    double support_t;  // thickness of the walls bounding the slab (clear interior)
   };
   std::vector<Level> levels;
   levels.push_back({-p.foundation_depth_m, "base_slab", kBaseSlab, p.foundation_wall_thickness_m});
   levels.push_back({0.0, "slab_0", kFloor, p.foundation_wall_thickness_m});
   const double sh = p.height_m / p.storeys;
-  for (int k = 1; k < p.storeys; ++k) levels.push_back({k * sh, "slab_" + std::to_string(k), kFloor, p.wall_thickness_m});
+  for (int k = 1; k < p.storeys; ++k)
+    levels.push_back({k * sh, "slab_" + std::to_string(k), kFloor, p.wall_thickness_m});
   levels.push_back({p.height_m, p.roof_slab ? "roof" : "", kFloor, p.wall_thickness_m});
   std::vector<double> zs;
   std::vector<int> level_k;
@@ -108,21 +111,27 @@ BuildingMesh buildMesh(const BuildingParams& p) {
       const double xc = 0.5 * (xs[i] + xs[i + 1]);
       if (below || !inOpening("front", xc, zc))
         mesh.elements.push_back({{node(i, 0, kk), node(i + 1, 0, kk), node(i + 1, 0, kk + 1), node(i, 0, kk + 1)},
-                                 sec, group(below ? "foundation_walls" : "wall_front"), 1.0});
+                                 sec,
+                                 group(below ? "foundation_walls" : "wall_front"),
+                                 1.0});
       if (below || !inOpening("back", xc, zc))
-        mesh.elements.push_back(
-            {{node(i, ny, kk), node(i + 1, ny, kk), node(i + 1, ny, kk + 1), node(i, ny, kk + 1)}, sec,
-             group(below ? "foundation_walls" : "wall_back"), 1.0});
+        mesh.elements.push_back({{node(i, ny, kk), node(i + 1, ny, kk), node(i + 1, ny, kk + 1), node(i, ny, kk + 1)},
+                                 sec,
+                                 group(below ? "foundation_walls" : "wall_back"),
+                                 1.0});
     }
     for (int j = 0; j < ny; ++j) {
       const double yc = 0.5 * (ys[j] + ys[j + 1]);
       if (below || !inOpening("left", yc, zc))
         mesh.elements.push_back({{node(0, j, kk), node(0, j + 1, kk), node(0, j + 1, kk + 1), node(0, j, kk + 1)},
-                                 sec, group(below ? "foundation_walls" : "wall_left"), 1.0});
+                                 sec,
+                                 group(below ? "foundation_walls" : "wall_left"),
+                                 1.0});
       if (below || !inOpening("right", yc, zc))
-        mesh.elements.push_back(
-            {{node(nx, j, kk), node(nx, j + 1, kk), node(nx, j + 1, kk + 1), node(nx, j, kk + 1)}, sec,
-             group(below ? "foundation_walls" : "wall_right"), 1.0});
+        mesh.elements.push_back({{node(nx, j, kk), node(nx, j + 1, kk), node(nx, j + 1, kk + 1), node(nx, j, kk + 1)},
+                                 sec,
+                                 group(below ? "foundation_walls" : "wall_right"),
+                                 1.0});
     }
   }
   // Slabs (mass only over the clear interior between the walls' faces).
@@ -138,7 +147,9 @@ BuildingMesh buildMesh(const BuildingParams& p) {
         const double clear = overlap(xs[i], xs[i + 1], mesh.x0_m + ht, mesh.x1_m - ht) *
                              overlap(ys[j], ys[j + 1], mesh.y0_m + ht, mesh.y1_m - ht);
         mesh.elements.push_back({{node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)},
-                                 levels[l].section, g, clear / area});
+                                 levels[l].section,
+                                 g,
+                                 clear / area});
       }
     }
   }
@@ -153,8 +164,8 @@ double handComputedMass(const BuildingParams& p) {
   double mass = p.wall.density_kg_m3 * p.wall_thickness_m * perimeter * p.height_m;  // masonry ring
   mass += rho_c * p.foundation_wall_thickness_m * perimeter * p.foundation_depth_m;  // foundation walls
   const double tf = p.foundation_wall_thickness_m;
-  mass += rho_c * p.base_slab_thickness_m * (lm - tf) * (wm - tf);                         // base slab
-  mass += p.floor.density_kg_m3 * p.floor_thickness_m * (lm - tf) * (wm - tf);           // ground slab
+  mass += rho_c * p.base_slab_thickness_m * (lm - tf) * (wm - tf);              // base slab
+  mass += p.floor.density_kg_m3 * p.floor_thickness_m * (lm - tf) * (wm - tf);  // ground slab
   const int upper = (p.storeys - 1) + (p.roof_slab ? 1 : 0);
   mass += upper * p.floor.density_kg_m3 * p.floor_thickness_m * (lm - p.wall_thickness_m) * (wm - p.wall_thickness_m);
   return mass;
@@ -235,8 +246,10 @@ BuildingModel::BuildingModel(const BuildingParams& params) : params_(params), me
     mirror_[axis].assign(mesh_.nodes.size(), -1);
     for (size_t n = 0; n < mesh_.nodes.size(); ++n) {
       Eigen::Vector3d v = mesh_.nodes[n];
-      if (axis == 0) v.x() = xm - v.x();
-      else v.y() = ym - v.y();
+      if (axis == 0)
+        v.x() = xm - v.x();
+      else
+        v.y() = ym - v.y();
       auto it = lookup.find(quantise(v));
       if (it != lookup.end()) mirror_[axis][n] = it->second;
     }
@@ -267,7 +280,8 @@ ResponseNode BuildingModel::snap(const NamedPoint& pt) const {
     }
   }
   // A point is on the structure if it is within one element of a node (slab or wall surface, or the wall faces).
-  const double allowed = mesh_.element_size_m * 0.75 + 0.5 * std::max(params_.wall_thickness_m, params_.floor_thickness_m);
+  const double allowed =
+      mesh_.element_size_m * 0.75 + 0.5 * std::max(params_.wall_thickness_m, params_.floor_thickness_m);
   if (best < 0 || dist > allowed) {
     std::ostringstream os;
     os << "config error: building.response_points: point '" << pt.name << "' at (" << pt.x_m << ", " << pt.y_m << ", "

@@ -97,8 +97,7 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
     if (p.damping_f2_hz <= p.damping_f1_hz) d.fail("f2_hz", "must be larger than f1_hz");
   }
   if (b.has("solver")) {
-    p.max_time_step_s = b.section("solver").number("max_time_step_s", Range{0.0, 0.01, true, false},
-                                                   p.max_time_step_s);
+    p.max_time_step_s = b.section("solver").number("max_time_step_s", Range{0.0, 0.01, true, false}, p.max_time_step_s);
   }
   if (b.has("footprint")) {
     const ConfigNode fp = b.section("footprint");

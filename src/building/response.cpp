@@ -1,7 +1,6 @@
 #include "railvib/building/response.hpp"
 
 #include <Eigen/CholmodSupport>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -12,12 +11,12 @@ constexpr double kTwoPi = 6.283185307179586;
 }
 
 struct BuildingResponseSolver::Impl {
-  int nf = 0;          // free DOFs
-  int nq = 0;          // footprint input components
+  int nf = 0;  // free DOFs
+  int nq = 0;  // footprint input components
   Eigen::SparseMatrix<double> kff;
   Eigen::VectorXd mff;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> p;  // constrained DOF x footprint component
-  Eigen::SparseMatrix<double> g;                   // K_fc P
+  Eigen::SparseMatrix<double, Eigen::RowMajor> p;                               // constrained DOF x footprint component
+  Eigen::SparseMatrix<double> g;                                                // K_fc P
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> kllt;  // K_ff (quasi-static response)
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> keff;
   double keff_dt = -1.0;
@@ -95,8 +94,10 @@ BuildingResponseSolver::BuildingResponseSolver(const BuildingModel& model, doubl
     for (Eigen::SparseMatrix<double>::InnerIterator it(k, c); it; ++it) {
       const int r = fi[it.row()];
       if (r < 0) continue;
-      if (fi[it.col()] >= 0) tff.emplace_back(r, fi[it.col()], it.value());
-      else tfc.emplace_back(r, s.constrained_row[it.col()], it.value());
+      if (fi[it.col()] >= 0)
+        tff.emplace_back(r, fi[it.col()], it.value());
+      else
+        tfc.emplace_back(r, s.constrained_row[it.col()], it.value());
     }
   }
   s.kff.resize(s.nf, s.nf);

@@ -116,9 +116,9 @@ ShellMatrix shellStiffness(const ShellNodes& x, const ShellSection& sec) {
     const double xd = j(which, 0);
     const double yd = j(which, 1);
     for (int i = 0; i < 4; ++i) {
-      row(3 * i) = dn[i];               // dw/dxi
-      row(3 * i + 1) = -s.n[i] * yd;    // beta_y = -rx
-      row(3 * i + 2) = s.n[i] * xd;     // beta_x = ry
+      row(3 * i) = dn[i];             // dw/dxi
+      row(3 * i + 1) = -s.n[i] * yd;  // beta_y = -rx
+      row(3 * i + 2) = s.n[i] * xd;   // beta_x = ry
     }
     return row;
   };

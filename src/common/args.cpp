@@ -80,7 +80,8 @@ double ArgParser::getDouble(const std::string& name) const {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != s.size() || !std::isfinite(v)) throw ArgError(command_ + ": --" + name + " = '" + s + "' is not a number");
+  if (used != s.size() || !std::isfinite(v))
+    throw ArgError(command_ + ": --" + name + " = '" + s + "' is not a number");
   return v;
 }
 

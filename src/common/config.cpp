@@ -179,7 +179,9 @@ void ConfigNode::failValue(const std::string& key, const YAML::Node& value, cons
                     fileOf(key) + "]");
 }
 
-bool ConfigNode::has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull(); }
+bool ConfigNode::has(const std::string& key) const {
+  return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+}
 
 YAML::Node ConfigNode::required(const std::string& key) const {
   if (!has(key)) failValue(key, YAML::Node(), "required key is missing");
@@ -248,9 +250,7 @@ bool ConfigNode::flag(const std::string& key) const {
   failValue(key, value, "must be true or false");
 }
 
-bool ConfigNode::flag(const std::string& key, bool default_value) const {
-  return has(key) ? flag(key) : default_value;
-}
+bool ConfigNode::flag(const std::string& key, bool default_value) const { return has(key) ? flag(key) : default_value; }
 
 std::string ConfigNode::choice(const std::string& key, const std::vector<std::string>& allowed) const {
   const std::string v = text(key);

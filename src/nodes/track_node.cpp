@@ -1,6 +1,7 @@
 // track_node: ContactForces in, SoilLoads out (see railvib/ros/track_node.hpp).
-#include "railvib/ros/node_config.hpp"
 #include "railvib/ros/track_node.hpp"
+
+#include "railvib/ros/node_config.hpp"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "track");

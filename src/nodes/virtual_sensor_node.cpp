@@ -1,7 +1,8 @@
 // virtual_sensor_node: soil / building velocities in, virtual accelerometer
 // samples, metrics and diagnostics out (see railvib/ros/virtual_sensor_node.hpp).
-#include "railvib/ros/node_config.hpp"
 #include "railvib/ros/virtual_sensor_node.hpp"
+
+#include "railvib/ros/node_config.hpp"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "virtual_sensor");

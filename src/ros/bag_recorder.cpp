@@ -79,8 +79,7 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 
 BagRecorder::~BagRecorder() { close("shutdown"); }
 
-void BagRecorder::onMessage(const std::string& topic,
-                            const ros::MessageEvent<topic_tools::ShapeShifter const>& event) {
+void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<topic_tools::ShapeShifter const>& event) {
   if (!open_) return;
   const auto msg = event.getConstMessage();
   TopicState& state = topics_.at(topic);

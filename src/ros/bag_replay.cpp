@@ -46,8 +46,9 @@ void BagReplay::run() {
 }
 
 void BagReplay::playOnce(bool first_pass) {
-  std::unique_ptr<rosbag::View> view =
-      topics_.empty() ? std::make_unique<rosbag::View>(bag_) : std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics_));
+  std::unique_ptr<rosbag::View> view = topics_.empty()
+                                           ? std::make_unique<rosbag::View>(bag_)
+                                           : std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics_));
   if (view->size() == 0) throw std::runtime_error("none of the requested topics is in " + bag_path_);
   if (first_pass) {
     for (const rosbag::ConnectionInfo* c : view->getConnections()) {

@@ -43,7 +43,8 @@ void NodeStatus::publish(double sim_time_s, uint8_t level, const std::string& me
   kv("real-time factor", std::to_string(progress_.realTimeFactor(sim_time_s)));
   for (auto& [stream, count] : streams_) {
     kv(stream + " samples", std::to_string(count.samples));
-    kv(stream + " rate [samples/s wall]", std::to_string(static_cast<double>(count.samples - count.samples_at_last) / wall_dt));
+    kv(stream + " rate [samples/s wall]",
+       std::to_string(static_cast<double>(count.samples - count.samples_at_last) / wall_dt));
     count.samples_at_last = count.samples;
   }
   array.status.push_back(status);

@@ -74,10 +74,12 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
         "surface_points", 1,
         boost::function<void(const railvib::PointLayout::ConstPtr&)>(
             [this, raw](const railvib::PointLayout::ConstPtr& m) { onLayout(*raw, *m); }));
-    src.data_sub = nh.subscribe<railvib::SurfaceVelocities>(
-        "surface_velocities", 0,
-        boost::function<void(const railvib::SurfaceVelocities::ConstPtr&)>(
-            [this, raw](const railvib::SurfaceVelocities::ConstPtr& m) { onBlock(*raw, asInput(*m, m->receiver_count)); }));
+    src.data_sub =
+        nh.subscribe<railvib::SurfaceVelocities>("surface_velocities", 0,
+                                                 boost::function<void(const railvib::SurfaceVelocities::ConstPtr&)>(
+                                                     [this, raw](const railvib::SurfaceVelocities::ConstPtr& m) {
+                                                       onBlock(*raw, asInput(*m, m->receiver_count));
+                                                     }));
   }
   if (has_source("building")) {
     Source& src = add_source("building");
@@ -94,8 +96,6 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   ROS_INFO("virtual_sensor: %zu sensor(s) at %.0f Hz, metrics every %lu samples", sensors_.size(),
            config_.sample_rate_hz, static_cast<unsigned long>(metrics_every_));
 }
-
-
 
 void VirtualSensorNode::fail(const std::string& what) {
   ROS_FATAL("virtual_sensor: %s", what.c_str());
@@ -151,7 +151,8 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
       }
       for (uint32_t k = 0; k < block.sample_count; ++k) {
         for (int c = 0; c < 3; ++c) {
-          frames[3 * k + c] = (*block.velocity_m_s)[(static_cast<size_t>(k) * block.point_count + s.point_index) * 3 + c];
+          frames[3 * k + c] =
+              (*block.velocity_m_s)[(static_cast<size_t>(k) * block.point_count + s.point_index) * 3 + c];
         }
       }
       emitted.clear();

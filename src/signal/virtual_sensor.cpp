@@ -90,7 +90,8 @@ size_t VirtualSensor::drain(std::vector<double>& resampled, bool flushing, std::
     for (int c = 0; c < 3; ++c) {
       s.velocity_m_s[c] = velocity_queue_.front();
       velocity_queue_.pop_front();
-      s.acceleration_m_s2[c] = accel_[3 * k + c] + (spec_.noise_rms_m_s2 > 0.0 ? spec_.noise_rms_m_s2 * noise_(rng_) : 0.0);
+      s.acceleration_m_s2[c] =
+          accel_[3 * k + c] + (spec_.noise_rms_m_s2 > 0.0 ? spec_.noise_rms_m_s2 * noise_(rng_) : 0.0);
     }
     out.push_back(s);
     ++emitted_;

@@ -235,6 +235,8 @@ ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m
   LambSpec small = ref;
   small.half_width_m = small.depth_m = small_half_width_m;
   out.lysmer_only = diff(runLamb(small));
+  small.half_width_m = small.depth_m = small_half_width_m + layer_m;
+  out.lysmer_only_enlarged = diff(runLamb(small));
   for (double alpha : layer_alpha_1_s) {
     small.absorbing_layer_m = layer_m;
     small.absorbing_layer_alpha_1_s = alpha;

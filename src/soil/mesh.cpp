@@ -74,8 +74,7 @@ StructuredMesh buildMesh(const std::vector<Layer>& profile, const MeshSpec& spec
     info.levels = n;
     info.dz_m = dz;
     info.material = profile[l].material;
-    info.resolved_hz =
-        profile[l].material.vs() / (spec.elements_per_wavelength * std::max({mesh.hx, mesh.hy, dz}));
+    info.resolved_hz = profile[l].material.vs() / (spec.elements_per_wavelength * std::max({mesh.hx, mesh.hy, dz}));
     mesh.layers.push_back(info);
     top = bottom;
   }

@@ -139,7 +139,17 @@ nlohmann::json SoilModel::summary() const {
 
 void SoilModel::pushLoads(uint64_t first_index, const double* forces_n, size_t frames) {
   load_tracker_.accept(first_index, frames);
-  loads_->push(forces_n, frames);
+  const size_t ns = sleeper_x_.size();
+  if (!params_.start_from_static) {
+    loads_->push(forces_n, frames);
+    return;
+  }
+  if (first_frame_.empty() && frames > 0) first_frame_.assign(forces_n, forces_n + ns);
+  shifted_.resize(frames * ns);
+  for (size_t f = 0; f < frames; ++f) {
+    for (size_t s = 0; s < ns; ++s) shifted_[f * ns + s] = forces_n[f * ns + s] - first_frame_[s];
+  }
+  loads_->push(shifted_.data(), frames);
 }
 
 void SoilModel::finishLoads() { loads_->finish(); }

@@ -57,8 +57,8 @@ SoilParams loadSoilParams(const ConfigNode& root) {
   if (!(p.mesh.y_max_m > p.mesh.y_min_m)) mesh.fail("y_max_m", "must be greater than y_min_m");
   p.mesh.max_plane_size_m = mesh.number("max_plane_size_m", Range::nonNegative(), 0.0);
   p.solver.safety_factor = mesh.number("safety_factor", Range{0.0, 1.0, true, false}, 0.9);
-  p.solver.precision = mesh.choice("precision", {"float", "double"}, "float") == "float" ? Precision::Float
-                                                                                         : Precision::Double;
+  p.solver.precision =
+      mesh.choice("precision", {"float", "double"}, "float") == "float" ? Precision::Float : Precision::Double;
   p.solver.threads = static_cast<int>(mesh.integer("threads", 0, 256, 0));
   p.max_memory_gb = mesh.number("max_memory_gb", Range::open(0.0, 1e4), 12.0);
 
@@ -78,6 +78,7 @@ SoilParams loadSoilParams(const ConfigNode& root) {
   }
   p.solver.align_rate_hz = p.receiver_rate_hz;
   p.loads_outside_mesh = soil.section("loads").choice("outside_mesh", {"error", "drop"}, "error");
+  p.start_from_static = soil.section("loads").flag("start_from_static", true);
 
   // Track: sleeper footprint and positions, load rate.
   const ConfigNode track = root.section("track");
@@ -123,7 +124,7 @@ SoilParams loadSoilParams(const ConfigNode& root) {
     const double len = bld.number("length_m", Range::open(0.0, 1e3));
     const double wid = bld.number("width_m", Range::open(0.0, 1e3));
     // Corners, wall mid-points, centre, and the paper's response point (3/4 along, mid-width).
-    const char* names[] = {"bldg_front_left", "bldg_front_mid", "bldg_front_right", "bldg_mid_left", "bldg_centre",
+    const char* names[] = {"bldg_front_left", "bldg_front_mid", "bldg_front_right", "bldg_mid_left",  "bldg_centre",
                            "bldg_mid_right",  "bldg_back_left", "bldg_back_mid",    "bldg_back_right"};
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) {
@@ -159,8 +160,8 @@ SoilParams loadSoilParams(const ConfigNode& root) {
                        static_cast<double>((m.nx + 1) * (m.ny + 1)) * 3.0 * sizeof(double);
   if (bytes > p.max_memory_gb * 1e9) {
     std::ostringstream why;
-    why << "the mesh (" << m.nx << " x " << m.ny << " x " << m.nz << " = " << m.elementCount()
-        << " elements) needs " << bytes / 1e9 << " GB, more than max_memory_gb = " << p.max_memory_gb
+    why << "the mesh (" << m.nx << " x " << m.ny << " x " << m.nz << " = " << m.elementCount() << " elements) needs "
+        << bytes / 1e9 << " GB, more than max_memory_gb = " << p.max_memory_gb
         << " GB: lower f_max_hz / elements_per_wavelength or shrink the box";
     mesh.fail("max_memory_gb", why.str());
   }

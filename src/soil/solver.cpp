@@ -17,8 +17,8 @@ constexpr size_t kChunk = 64;
 // then are added to the nodes corner by corner (no write conflict inside a loop).
 template <class Real>
 inline __attribute__((always_inline)) void levelKernelBody(const Real* __restrict ke, const Real* const* w,
-                                                           Real* const* f, size_t nx, size_t sx, size_t sxy,
-                                                           size_t k, size_t j_begin, size_t j_end) {
+                                                           Real* const* f, size_t nx, size_t sx, size_t sxy, size_t k,
+                                                           size_t j_begin, size_t j_end) {
   alignas(64) Real out[24][kChunk];
   size_t off[8];
   for (size_t c = 0; c < 8; ++c) off[c] = (c & 1) + ((c >> 1) & 1) * sx + ((c >> 2) & 1) * sxy;
@@ -52,17 +52,16 @@ inline __attribute__((always_inline)) void levelKernelBody(const Real* __restric
 }
 
 __attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const float* ke, const float* const* w,
-                                                                               float* const* f, size_t nx, size_t sx,
-                                                                               size_t sxy, size_t k, size_t jb,
-                                                                               size_t je) {
+                                                                              float* const* f, size_t nx, size_t sx,
+                                                                              size_t sxy, size_t k, size_t jb,
+                                                                              size_t je) {
   levelKernelBody<float>(ke, w, f, nx, sx, sxy, k, jb, je);
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const double* ke,
-                                                                               const double* const* w,
-                                                                               double* const* f, size_t nx,
-                                                                               size_t sx, size_t sxy, size_t k,
-                                                                               size_t jb, size_t je) {
+__attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const double* ke, const double* const* w,
+                                                                              double* const* f, size_t nx, size_t sx,
+                                                                              size_t sxy, size_t k, size_t jb,
+                                                                              size_t je) {
   levelKernelBody<double>(ke, w, f, nx, sx, sxy, k, jb, je);
 }
 
@@ -238,7 +237,8 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::m
   // Stability: Irons' element bound on lambda_max(M^-1 K).
   double lam = 0.0;
   for (size_t k = 0; k < mesh_.nz; ++k) {
-    lam = std::max(lam, boxElementMaxEigenvalue(mesh_.hx, mesh_.hy, mesh_.z[k + 1] - mesh_.z[k], mesh_.levelMaterial(k)));
+    lam =
+        std::max(lam, boxElementMaxEigenvalue(mesh_.hx, mesh_.hy, mesh_.z[k + 1] - mesh_.z[k], mesh_.levelMaterial(k)));
   }
   const double omega_max = std::sqrt(lam);
   dt_undamped_ = 2.0 / omega_max;
@@ -278,21 +278,26 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::m
     const double hz = m.z[k + 1] - m.z[k];
     const Material& mat = m.levelMaterial(k);
     for (size_t j = 0; j < m.ny; ++j) {
-      if (options_.absorb_x_min) face(m.node(0, j, k), m.node(0, j + 1, k), m.node(0, j, k + 1), m.node(0, j + 1, k + 1), m.hy * hz, mat, 0);
+      if (options_.absorb_x_min)
+        face(m.node(0, j, k), m.node(0, j + 1, k), m.node(0, j, k + 1), m.node(0, j + 1, k + 1), m.hy * hz, mat, 0);
       if (options_.absorb_x_max)
-        face(m.node(m.nx, j, k), m.node(m.nx, j + 1, k), m.node(m.nx, j, k + 1), m.node(m.nx, j + 1, k + 1), m.hy * hz, mat, 0);
+        face(m.node(m.nx, j, k), m.node(m.nx, j + 1, k), m.node(m.nx, j, k + 1), m.node(m.nx, j + 1, k + 1), m.hy * hz,
+             mat, 0);
     }
     for (size_t i = 0; i < m.nx; ++i) {
-      if (options_.absorb_y_min) face(m.node(i, 0, k), m.node(i + 1, 0, k), m.node(i, 0, k + 1), m.node(i + 1, 0, k + 1), m.hx * hz, mat, 1);
+      if (options_.absorb_y_min)
+        face(m.node(i, 0, k), m.node(i + 1, 0, k), m.node(i, 0, k + 1), m.node(i + 1, 0, k + 1), m.hx * hz, mat, 1);
       if (options_.absorb_y_max)
-        face(m.node(i, m.ny, k), m.node(i + 1, m.ny, k), m.node(i, m.ny, k + 1), m.node(i + 1, m.ny, k + 1), m.hx * hz, mat, 1);
+        face(m.node(i, m.ny, k), m.node(i + 1, m.ny, k), m.node(i, m.ny, k + 1), m.node(i + 1, m.ny, k + 1), m.hx * hz,
+             mat, 1);
     }
   }
   if (options_.absorb_bottom) {
     const size_t k = m.nz;
     const Material& mat = m.levelMaterial(m.nz - 1);
     for (size_t j = 0; j < m.ny; ++j) {
-      for (size_t i = 0; i < m.nx; ++i) face(m.node(i, j, k), m.node(i + 1, j, k), m.node(i, j + 1, k), m.node(i + 1, j + 1, k), m.hx * m.hy, mat, 2);
+      for (size_t i = 0; i < m.nx; ++i)
+        face(m.node(i, j, k), m.node(i + 1, j, k), m.node(i, j + 1, k), m.node(i + 1, j + 1, k), m.hx * m.hy, mat, 2);
     }
   }
   if (options_.absorbing_layer_m > 0.0 && options_.absorbing_layer_alpha_1_s > 0.0) {

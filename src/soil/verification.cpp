@@ -180,7 +180,8 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
   for (size_t q = 0; q < 3 * n; ++q) s.setDisplacement(q / 3, static_cast<int>(q % 3), 1e-3 * shape[q]);
   auto modal = [&]() {
     double acc = 0.0;
-    for (size_t q = 0; q < 3 * n; ++q) acc += shape[q] * s.nodalMass(q / 3) * s.displacement(q / 3, static_cast<int>(q % 3));
+    for (size_t q = 0; q < 3 * n; ++q)
+      acc += shape[q] * s.nodalMass(q / 3) * s.displacement(q / 3, static_cast<int>(q % 3));
     return acc;
   };
   const double target = beta_s * 2.0 * M_PI * f_hz / 2.0;

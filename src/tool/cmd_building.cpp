@@ -22,9 +22,11 @@ using nlohmann::json;
 json modeJson(const Mode& m, size_t index, double free_mass) {
   return {{"index", index},
           {"frequency_hz", m.frequency_hz},
-          {"effective_mass_kg", {{"x", m.effective_mass_kg.x()}, {"y", m.effective_mass_kg.y()}, {"z", m.effective_mass_kg.z()}}},
+          {"effective_mass_kg",
+           {{"x", m.effective_mass_kg.x()}, {"y", m.effective_mass_kg.y()}, {"z", m.effective_mass_kg.z()}}},
           {"effective_mass_fraction",
-           {{"x", m.effective_mass_kg.x() / free_mass}, {"y", m.effective_mass_kg.y() / free_mass},
+           {{"x", m.effective_mass_kg.x() / free_mass},
+            {"y", m.effective_mass_kg.y() / free_mass},
             {"z", m.effective_mass_kg.z() / free_mass}}},
           {"torsion_fraction", m.torsion_mass_fraction},
           {"label", m.label},
@@ -71,7 +73,8 @@ int runModes(const std::vector<std::string>& args) {
   out["cumulative_effective_mass_fraction"] = {{"x", res.cumulative_effective_mass_fraction.x()},
                                                {"y", res.cumulative_effective_mass_fraction.y()},
                                                {"z", res.cumulative_effective_mass_fraction.z()}};
-  out["paper_hz"] = {{"first_floor_bending_symmetric", 15.0}, {"other_bending", {23.8, 25.5, 27.0}},
+  out["paper_hz"] = {{"first_floor_bending_symmetric", 15.0},
+                     {"other_bending", {23.8, 25.5, 27.0}},
                      {"wall_flexure_range", {25.0, 30.0}}};
   out["modal_seconds"] = res.seconds;
 
@@ -89,7 +92,9 @@ int runModes(const std::vector<std::string>& args) {
     const std::vector<double> fc = readCalculixFrequencies(parser.get("ccx-dat"));
     json cmp = json::array();
     for (size_t i = 0; i < std::min(fc.size(), res.modes.size()); ++i)
-      cmp.push_back({{"index", i + 1}, {"railvib_hz", res.modes[i].frequency_hz}, {"calculix_hz", fc[i]},
+      cmp.push_back({{"index", i + 1},
+                     {"railvib_hz", res.modes[i].frequency_hz},
+                     {"calculix_hz", fc[i]},
                      {"relative_difference", res.modes[i].frequency_hz / fc[i] - 1.0}});
     out["calculix_comparison"] = cmp;
   }
@@ -105,7 +110,9 @@ int runModes(const std::vector<std::string>& args) {
       const ModalResult r = modalAnalysis(m, o);
       json f = json::array();
       for (size_t i = 0; i < 8 && i < r.modes.size(); ++i) f.push_back(r.modes[i].frequency_hz);
-      study.push_back({{"element_size_m", p.element_size_m}, {"free_dofs", r.dof_count}, {"frequencies_hz", f},
+      study.push_back({{"element_size_m", p.element_size_m},
+                       {"free_dofs", r.dof_count},
+                       {"frequencies_hz", f},
                        {"seconds", r.seconds}});
     }
     out["refinement"] = study;
@@ -116,8 +123,9 @@ int runModes(const std::vector<std::string>& args) {
 }
 
 int runTf(const std::vector<std::string>& args) {
-  ArgParser parser("building-tf",
-                   "transfer functions: uniform vertical foundation velocity -> vertical velocity at the response points");
+  ArgParser parser(
+      "building-tf",
+      "transfer functions: uniform vertical foundation velocity -> vertical velocity at the response points");
   addConfigOptions(parser);
   parser.option("csv", "output CSV (frequency_hz, <point>_abs, <point>_phase_rad ...)");
   parser.option("duration", "simulated time after the impulse (s)", "6.0");
@@ -172,7 +180,8 @@ int runTf(const std::vector<std::string>& args) {
       if (is_peak) {
         double nearest = 0.0;
         for (const Mode& m : modes.modes)
-          if (std::abs(m.frequency_hz - tf.frequency_hz[j]) < std::abs(nearest - tf.frequency_hz[j])) nearest = m.frequency_hz;
+          if (std::abs(m.frequency_hz - tf.frequency_hz[j]) < std::abs(nearest - tf.frequency_hz[j]))
+            nearest = m.frequency_hz;
         peaks.push_back({{"frequency_hz", tf.frequency_hz[j]}, {"abs", a}, {"nearest_mode_hz", nearest}});
       }
     }
@@ -203,7 +212,8 @@ int runResponse(const std::vector<std::string>& args) {
   parser.option("out", "output CSV: time_s, <point>_vx, _vy, _vz (m/s)");
   parser.option("block", "samples per block fed to the streaming solver", "256");
   if (!parser.parse(args)) return 0;
-  if (!parser.has("footprint") || !parser.has("out")) throw ArgError("building-response: --footprint and --out are required");
+  if (!parser.has("footprint") || !parser.has("out"))
+    throw ArgError("building-response: --footprint and --out are required");
   const Config config = loadConfig(parser);
   const BuildingParams params = loadBuildingParams(config.root());
   const auto t0 = std::chrono::steady_clock::now();

@@ -1,14 +1,13 @@
 // railvib_tool soil commands: soil-bench column|damping|throughput|lamb, soil.
-#include <algorithm>
-#include <iostream>
-#include <vector>
-
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <vector>
 
 #include "command_registry.hpp"
 #include "railvib/io/csv.hpp"
@@ -63,12 +62,16 @@ int soilBench(const std::vector<std::string>& args) {
       ColumnSpec spec;
       spec.precision = pr;
       const ColumnResult r = runColumn(spec);
-      out[pr == Precision::Float ? "float" : "double"] = {
-          {"expected_velocity_m_s", r.expected_velocity_m_s}, {"incident_velocity_m_s", r.incident_velocity_m_s},
-          {"velocity_error", r.velocity_error},               {"after_velocity_m_s", r.after_velocity_m_s},
-          {"step_reflection", r.step_reflection},             {"pulse_incident_peak_m_s", r.pulse_incident_peak_m_s},
-          {"pulse_reflected_peak_m_s", r.pulse_reflected_peak_m_s}, {"pulse_reflection", r.pulse_reflection},
-          {"dt_s", r.dt_s},                                   {"elements", r.elements}};
+      out[pr == Precision::Float ? "float" : "double"] = {{"expected_velocity_m_s", r.expected_velocity_m_s},
+                                                          {"incident_velocity_m_s", r.incident_velocity_m_s},
+                                                          {"velocity_error", r.velocity_error},
+                                                          {"after_velocity_m_s", r.after_velocity_m_s},
+                                                          {"step_reflection", r.step_reflection},
+                                                          {"pulse_incident_peak_m_s", r.pulse_incident_peak_m_s},
+                                                          {"pulse_reflected_peak_m_s", r.pulse_reflected_peak_m_s},
+                                                          {"pulse_reflection", r.pulse_reflection},
+                                                          {"dt_s", r.dt_s},
+                                                          {"elements", r.elements}};
     }
   } else if (which == "damping") {
     json rows = json::array();
@@ -99,10 +102,10 @@ int soilBench(const std::vector<std::string>& args) {
         const double med = median(rates);
         if (threads == 1) one = med;
         jp["threads_" + std::to_string(threads)] = {{"median_element_updates_per_s", med},
-                                                     {"per_core", med / threads},
-                                                     {"median_per_cpu_second", median(cpu_rates)},
-                                                     {"min", *std::min_element(rates.begin(), rates.end())},
-                                                     {"max", *std::max_element(rates.begin(), rates.end())}};
+                                                    {"per_core", med / threads},
+                                                    {"median_per_cpu_second", median(cpu_rates)},
+                                                    {"min", *std::min_element(rates.begin(), rates.end())},
+                                                    {"max", *std::max_element(rates.begin(), rates.end())}};
         if (threads == 2) jp["speedup_2_cores"] = med / one;
       }
       out[pr == Precision::Float ? "float" : "double"] = jp;
@@ -116,11 +119,13 @@ int soilBench(const std::vector<std::string>& args) {
     const ReflectionResult r = runBoundaryReflection(p.getDouble("small-box"), p.getDouble("layer"), alphas);
     json rows = json::array();
     for (size_t i = 0; i < alphas.size(); ++i) {
-      rows.push_back({{"layer_m", p.getDouble("layer")}, {"layer_alpha_1_s", alphas[i]}, {"with_layer", r.with_layer[i]}});
+      rows.push_back(
+          {{"layer_m", p.getDouble("layer")}, {"layer_alpha_1_s", alphas[i]}, {"with_layer", r.with_layer[i]}});
     }
     out["r_m"] = r.r_m;
     out["window_s"] = r.window_s;
     out["lysmer_only"] = r.lysmer_only;
+    out["lysmer_only_enlarged_box"] = r.lysmer_only_enlarged;
     out["runs"] = rows;
     out["note"] = "max |w_small_box - w_reference_box| / max |w_reference| at r, Lamb Hann pulse";
   } else if (which == "lamb") {
@@ -145,7 +150,9 @@ int soilBench(const std::vector<std::string>& args) {
     out["stations"] = st;
     out["elements"] = r.elements;
     out["dt_s"] = r.dt_s;
-    out["material"] = {{"vs_m_s", spec.material.vs()}, {"vp_m_s", spec.material.vp()}, {"vr_m_s", spec.material.vr()},
+    out["material"] = {{"vs_m_s", spec.material.vs()},
+                       {"vp_m_s", spec.material.vp()},
+                       {"vr_m_s", spec.material.vr()},
                        {"poisson_ratio", spec.material.poisson_ratio}};
     out["h_m"] = spec.h_m;
     out["rise_s"] = spec.rise_s;
@@ -186,8 +193,10 @@ int soilRun(const std::vector<std::string>& args) {
   ArgParser p("soil", "offline 3D soil run: sleeper loads CSV in, receiver velocities + surface snapshots out");
   addConfigOptions(p);
   p.option("loads", "soil loads CSV (t_s, sleeper_0, ...; N, downward +, both rails), e.g. passage soil_loads.csv");
-  p.option("sleepers", "sleeper positions CSV (sleeper, x_m); default: sleepers.csv next to --loads, else the "
-                       "track config rule", "auto");
+  p.option("sleepers",
+           "sleeper positions CSV (sleeper, x_m); default: sleepers.csv next to --loads, else the "
+           "track config rule",
+           "auto");
   p.option("out", "output directory");
   p.option("duration", "simulated time (s); 0 = simulation.duration_s", "0");
   if (!p.parse(args)) return 0;
@@ -233,8 +242,8 @@ int soilRun(const std::vector<std::string>& args) {
             << summary["dt_naive_rayleigh_limit_s"] << "), memory " << summary["memory_bytes"].get<double>() / 1e9
             << " GB\n";
   for (const auto& l : summary["layers"]) {
-    std::cerr << "  layer " << l["top_m"] << "-" << l["bottom_m"] << " m: " << l["levels"] << " levels of "
-              << l["dz_m"] << " m, Vs " << l["vs_m_s"] << " m/s, resolved up to " << l["resolved_hz"] << " Hz\n";
+    std::cerr << "  layer " << l["top_m"] << "-" << l["bottom_m"] << " m: " << l["levels"] << " levels of " << l["dz_m"]
+              << " m, Vs " << l["vs_m_s"] << " m/s, resolved up to " << l["resolved_hz"] << " Hz\n";
   }
   std::vector<double> frame;
   frame.reserve(loads.rows.size() * ns);
@@ -302,8 +311,7 @@ int soilRun(const std::vector<std::string>& args) {
   {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
-    const double cpu_s =
-        u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
+    const double cpu_s = u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
     summary["cpu_s"] = cpu_s;
     summary["element_updates_per_cpu_s"] = static_cast<double>(model.solver().stepCount()) *
                                            static_cast<double>(model.solver().mesh().elementCount()) / cpu_s;
@@ -321,7 +329,8 @@ int soilRun(const std::vector<std::string>& args) {
 }
 
 Registrar reg_soil("soil", "offline 3D soil run (loads CSV -> receiver velocities CSV + surface snapshots)", soilRun);
-Registrar reg_bench("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb | reflection", soilBench);
+Registrar reg_bench("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb | reflection",
+                    soilBench);
 
 }  // namespace
 }  // namespace railvib::tool

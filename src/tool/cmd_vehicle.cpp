@@ -52,6 +52,8 @@ int vehicleModes(const std::vector<std::string>& args) {
   addConfigOptions(p);
   p.option("track", "rigid | flexible", "rigid");
   p.option("foundation", "flexible track foundation: clm | winkler (default: config)", "");
+  p.option("min-vehicle-share", "flexible: keep modes with at least this share of kinetic energy in the vehicle", "0.5");
+  p.option("margin", "flexible: local track length beyond the end axles (m)", "10");
   if (!p.parse(args)) return 0;
   const std::string track = trackChoice(p);
   std::vector<std::string> extra;
@@ -64,7 +66,10 @@ int vehicleModes(const std::vector<std::string>& args) {
     modes = vehicleModesRigid(model);
   } else {
     const auto tp = track::loadTrackParams(cfg.section("track"));
-    modes = vehicleModesFlexible(model, tp);
+    ModalOptions mo;
+    mo.min_vehicle_energy_share = p.getDouble("min-vehicle-share");
+    mo.margin_m = p.getDouble("margin");
+    modes = vehicleModesFlexible(model, tp, mo);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   json out = {{"track", track}, {"dof", model.dofCount()}, {"wall_time_s", wall}, {"modes", modesJson(modes, track == "flexible")}};

@@ -1,8 +1,8 @@
 // railvib_tool: helpers shared by subcommands.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "railvib/common/args.hpp"

@@ -27,16 +27,16 @@ struct Mode {
 
 struct ModalOptions {
   double fmax_hz = 50.0;
-  bool fixed_base = true;   ///< false: free-free model (rigid-body check)
+  bool fixed_base = true;  ///< false: free-free model (rigid-body check)
   int min_modes = 10;
   int max_modes = 400;
 };
 
 struct ModalResult {
-  std::vector<Mode> modes;          ///< ascending frequency, all below fmax (at least min_modes)
-  double free_mass_kg = 0.0;        ///< translational mass of the free DOFs (per direction)
+  std::vector<Mode> modes;    ///< ascending frequency, all below fmax (at least min_modes)
+  double free_mass_kg = 0.0;  ///< translational mass of the free DOFs (per direction)
   Eigen::Vector3d cumulative_effective_mass_fraction = Eigen::Vector3d::Zero();
-  int dof_count = 0;                ///< free DOFs
+  int dof_count = 0;  ///< free DOFs
   double seconds = 0.0;
 };
 

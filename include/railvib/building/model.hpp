@@ -27,8 +27,8 @@ constexpr int kDofPerNode = 6;
 
 struct MeshElement {
   std::array<int, 4> nodes;
-  int section = 0;  ///< index into BuildingMesh::sections
-  int group = 0;    ///< index into BuildingMesh::groups
+  int section = 0;          ///< index into BuildingMesh::sections
+  int group = 0;            ///< index into BuildingMesh::groups
   double mass_scale = 1.0;  ///< fraction of the element area that carries its own material
 };
 
@@ -42,8 +42,9 @@ struct BuildingMesh {
   std::vector<Eigen::Vector3d> nodes;  ///< building frame (m)
   std::vector<MeshElement> elements;
   std::vector<SectionInfo> sections;
-  std::vector<std::string> groups;  ///< wall_front, wall_back, wall_left, wall_right, foundation_walls, base_slab, slab_0...
-  std::vector<double> slab_levels_m;  ///< z of slabs above the foundation base (ground floor first)
+  std::vector<std::string>
+      groups;  ///< wall_front, wall_back, wall_left, wall_right, foundation_walls, base_slab, slab_0...
+  std::vector<double> slab_levels_m;                      ///< z of slabs above the foundation base (ground floor first)
   double x0_m = 0.0, x1_m = 0.0, y0_m = 0.0, y1_m = 0.0;  ///< wall mid-line rectangle
   double element_size_m = 0.0;
 };

@@ -32,9 +32,9 @@ struct NamedPoint {
 
 /// A rectangular opening (window, door) cut into an exterior wall.
 struct Opening {
-  std::string wall;         ///< front | back | left | right
-  double start_m = 0.0;     ///< along the wall, from its low-x (front/back) or low-y (left/right) end
-  double bottom_m = 0.0;    ///< above the ground surface (z)
+  std::string wall;       ///< front | back | left | right
+  double start_m = 0.0;   ///< along the wall, from its low-x (front/back) or low-y (left/right) end
+  double bottom_m = 0.0;  ///< above the ground surface (z)
   double width_m = 0.0;
   double height_m = 0.0;
 };

@@ -91,9 +91,9 @@ struct TransferFunctionOptions {
 struct TransferFunctions {
   std::vector<std::string> names;
   std::vector<double> frequency_hz;
-  Eigen::MatrixXcd tf;  ///< frequency x point
-  Eigen::VectorXd base_velocity;       ///< input pulse (m/s) per sample
-  Eigen::MatrixXd response_velocity;   ///< vertical velocity per sample x point
+  Eigen::MatrixXcd tf;                ///< frequency x point
+  Eigen::VectorXd base_velocity;      ///< input pulse (m/s) per sample
+  Eigen::MatrixXd response_velocity;  ///< vertical velocity per sample x point
 };
 
 TransferFunctions impulseTransferFunctions(const BuildingModel& model, const TransferFunctionOptions& options = {});

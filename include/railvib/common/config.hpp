@@ -98,8 +98,7 @@ class ConfigNode {
 
  private:
   YAML::Node required(const std::string& key) const;
-  [[noreturn]] void failValue(const std::string& key, const YAML::Node& value,
-                              const std::string& reason) const;
+  [[noreturn]] void failValue(const std::string& key, const YAML::Node& value, const std::string& reason) const;
 
   std::shared_ptr<const detail::ConfigData> data_;
   YAML::Node node_;

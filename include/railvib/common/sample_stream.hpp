@@ -24,8 +24,8 @@ class SampleIndexTracker {
   /// Accept a block [first_index, first_index + count); throws StreamGapError otherwise.
   void accept(uint64_t first_index, uint64_t count) {
     if (first_index != next_) {
-      throw StreamGapError("stream '" + name_ + "': expected sample " + std::to_string(next_) + ", got block starting at " +
-                           std::to_string(first_index) +
+      throw StreamGapError("stream '" + name_ + "': expected sample " + std::to_string(next_) +
+                           ", got block starting at " + std::to_string(first_index) +
                            (first_index > next_ ? " (" + std::to_string(first_index - next_) + " samples lost)"
                                                 : " (duplicate or reordered block)"));
     }

@@ -11,7 +11,8 @@
 // arrived, i.e. latencyInputSamples() input samples after the sample at t_k.
 //
 // Sample layout: C channels interleaved frame by frame, x[frame * C + c].
-// Before t0 the input is taken equal to the first sample (no start-up step).
+// Before t0 the input is taken equal to the first sample (no start-up step;
+// a two-stage design pads its intermediate stream the same way).
 // flush() ends the stream: the input is padded with its last value and every
 // output whose time is <= the time of the last input sample is emitted.
 //
@@ -19,7 +20,7 @@
 // output_rate (ripple < 0.01 dB with the defaults), stop band >= 60 dB from
 // output_rate / 2 upwards (designed for stopband_db = 70 with margin).
 // Integer ratios input_rate / output_rate use exact precomputed taps, in one
-// stage or, when cheaper (e.g. 100 kHz -> 2 kHz: 25 x 2, ~4x fewer
+// stage or, when cheaper (e.g. 100 kHz -> 2 kHz: 10 x 5, ~5x fewer
 // multiplications), two cascaded stages whose equivalent FIR has
 // N = 2 * latencyInputSamples() + 1 taps; non-integer ratios use one stage with
 // the continuous kernel evaluated from a finely tabulated copy (error < 1e-5).

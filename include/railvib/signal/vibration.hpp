@@ -118,8 +118,10 @@ class PeakTracker {
   double peak() const { return best_peak_; }
   double peakTime() const { return best_time_s_; }
   /// Dominant frequency of the peak's half cycle (Hz). While the half cycle
-  /// holding the peak is open, its duration so far is used (a lower bound of f
-  /// is unknown; the value is provisional). 0 if no zero crossing seen yet.
+  /// holding the peak is open, its duration so far is used: an upper bound of
+  /// the final value (provisional() is true). 0 if no zero crossing seen yet.
+  /// A slow drift or offset suppresses crossings and lowers f: the DIN 4150-3
+  /// limit then errs on the safe (lower) side.
   double dominantFrequency() const;
   bool provisional() const { return best_open_; }
   void reset();

@@ -33,11 +33,11 @@ class PekerisSolution {
   /// (S = (1 - cos(pi t / rise)) / 2), at the given times.
   std::vector<double> smoothStepResponse(double p_n, double r_m, double rise_s, const std::vector<double>& t_s) const;
   /// Same for the Hann pulse S = (1 - cos(2 pi t / T)) / 2 on [0, T], 0 elsewhere.
-  std::vector<double> hannPulseResponse(double p_n, double r_m, double duration_s, const std::vector<double>& t_s) const;
+  std::vector<double> hannPulseResponse(double p_n, double r_m, double duration_s,
+                                        const std::vector<double>& t_s) const;
 
  private:
-  std::vector<double> response(double p_n, double r_m, double rise_s, const std::vector<double>& t_s,
-                               bool pulse) const;
+  std::vector<double> response(double p_n, double r_m, double rise_s, const std::vector<double>& t_s, bool pulse) const;
   double denominator(double s) const;       // rationalised Rayleigh function D(y^2)
   double denominatorSlope(double s) const;  // dD / ds
   Material mat_;
@@ -85,11 +85,13 @@ LambResult runLamb(const LambSpec& spec);
 
 /// Boundary reflections: the Lamb pulse in a small box vs the same in a large
 /// reference box (whose reflections arrive after the window); returns
-/// max |w_small - w_ref| / max |w_ref| at the station over the window.
+/// max |w_small - w_ref| / max |w_ref| at the station over the window. The absorbing
+/// layer is added outside the small box (same region of interest).
 struct ReflectionResult {
   double r_m = 0.0, window_s = 0.0;
-  double lysmer_only = 0.0;
-  std::vector<double> with_layer;  // per alpha
+  double lysmer_only = 0.0;           // small box
+  double lysmer_only_enlarged = 0.0;  // small box enlarged by the layer thickness, no layer
+  std::vector<double> with_layer;     // enlarged box whose outer layer_m is an absorbing layer, per alpha
 };
 ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m,
                                        const std::vector<double>& layer_alpha_1_s);

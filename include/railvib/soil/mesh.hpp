@@ -66,10 +66,10 @@ struct LayerMeshInfo {
 struct StructuredMesh {
   size_t nx = 0, ny = 0, nz = 0;
   double x0 = 0.0, y0 = 0.0, hx = 0.0, hy = 0.0;
-  std::vector<double> z;                 // node plane depths, size nz + 1, z[0] = 0
-  std::vector<size_t> level_material;    // per element level, index into materials
+  std::vector<double> z;               // node plane depths, size nz + 1, z[0] = 0
+  std::vector<size_t> level_material;  // per element level, index into materials
   std::vector<Material> materials;
-  std::vector<LayerMeshInfo> layers;     // one per meshed layer (half-space last)
+  std::vector<LayerMeshInfo> layers;  // one per meshed layer (half-space last)
 
   size_t nodeCount() const { return (nx + 1) * (ny + 1) * (nz + 1); }
   size_t elementCount() const { return nx * ny * nz; }

@@ -9,7 +9,11 @@
 //   ... model.finishLoads(); model.advance(t_end); model.finishOutputs(); take...()
 //
 // Load sample n stands for time n / load_rate (n = 0 at t = 0); blocks must be
-// contiguous (SampleIndexTracker, StreamGapError otherwise). The loads are
+// contiguous (SampleIndexTracker, StreamGapError otherwise). With
+// soil.loads.start_from_static (default) the run starts at static equilibrium
+// under sample 0 (like the track model): the linear model is driven by
+// F(t) - F(0), so velocities carry no start-up step (displacements are then
+// relative to that static state). The loads are
 // evaluated at the soil step times with the railvib/signal StreamInterpolator
 // (cubic; the track already low-passed them). Receiver velocities (x, y, z up,
 // m/s, frame `track`) go through the railvib/signal Decimator to
@@ -100,7 +104,7 @@ class SoilModel {
   std::vector<double> surf_prev_, surf_now_, surf_acc_;
   uint64_t snap_steps_ = 0, snap_count_ = 0, snap_acc_n_ = 0;
   std::vector<SurfaceSnapshot> snaps_;
-  std::vector<double> channel_values_, load_eval_;
+  std::vector<double> channel_values_, load_eval_, first_frame_, shifted_;
   double load_t_offset_ = 0.0;
 };
 

@@ -29,6 +29,9 @@ struct SoilParams {
   double sleeper_spacing_m = 0.72, sleeper_offset_m = 0.0, track_x_min_m = -40.0, track_x_max_m = 40.0;
   /// Sleepers whose footprint is not inside the mesh: "error" or "drop" (their load is ignored, reported).
   std::string loads_outside_mesh = "error";
+  /// Start from static equilibrium under the first load sample: the model is linear, so the
+  /// velocities are those of the load increments F(t) - F(0) from rest (no start-up step).
+  bool start_from_static = true;
   double load_sample_rate_hz = 2000.0;
   double duration_s = 5.0;
   std::vector<ReceiverSpec> receivers;

@@ -25,14 +25,14 @@ struct ColumnSpec {
 };
 
 struct ColumnResult {
-  double expected_velocity_m_s = 0.0;    // q / (rho Vp)
-  double incident_velocity_m_s = 0.0;    // step plateau before the base reflection comes back
-  double after_velocity_m_s = 0.0;       // plateau after the base reflection passed the receiver
-  double velocity_error = 0.0;           // incident / expected - 1
-  double step_reflection = 0.0;          // (after - incident) / incident
-  double pulse_incident_peak_m_s = 0.0;  // Hann pulse: incident peak
-  double pulse_reflected_peak_m_s = 0.0; // largest |v| in the window of the reflected pulse
-  double pulse_reflection = 0.0;         // reflected / incident
+  double expected_velocity_m_s = 0.0;     // q / (rho Vp)
+  double incident_velocity_m_s = 0.0;     // step plateau before the base reflection comes back
+  double after_velocity_m_s = 0.0;        // plateau after the base reflection passed the receiver
+  double velocity_error = 0.0;            // incident / expected - 1
+  double step_reflection = 0.0;           // (after - incident) / incident
+  double pulse_incident_peak_m_s = 0.0;   // Hann pulse: incident peak
+  double pulse_reflected_peak_m_s = 0.0;  // largest |v| in the window of the reflected pulse
+  double pulse_reflection = 0.0;          // reflected / incident
   double dt_s = 0.0;
   size_t elements = 0;
 };
@@ -43,9 +43,9 @@ ColumnResult runColumn(const ColumnSpec& spec);
 /// scaled so that the mode is at f_hz, with Rayleigh beta and the damping
 /// filter cut-off; measured from the modal amplitude envelope.
 struct DampingDecayResult {
-  double frequency_hz = 0.0;          // measured mode frequency
-  double measured_ratio = 0.0;        // decay rate / omega
-  double target_ratio = 0.0;          // beta omega / 2
+  double frequency_hz = 0.0;    // measured mode frequency
+  double measured_ratio = 0.0;  // decay rate / omega
+  double target_ratio = 0.0;    // beta omega / 2
   double dt_s = 0.0, dt_undamped_s = 0.0, dt_naive_s = 0.0;
 };
 DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz, Precision precision);
@@ -53,8 +53,8 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
 struct ThroughputResult {
   size_t elements = 0;
   int threads = 0;
-  double element_updates_per_s = 0.0;       // wall clock
-  double element_updates_per_cpu_s = 0.0;   // per CPU second of the process (user + sys, all threads)
+  double element_updates_per_s = 0.0;      // wall clock
+  double element_updates_per_cpu_s = 0.0;  // per CPU second of the process (user + sys, all threads)
   double seconds_per_step = 0.0;
 };
 /// Time `steps` steps of an nx x ny x nz homogeneous box with Lysmer faces.

@@ -16,8 +16,11 @@
 //   ... Newton on F ...
 //   trk.commitContact(F);                    // no further solve
 //
-// Moving-load use: trk.step(loads). Each step costs one back-substitution plus
-// one per contact point.
+// Moving-load use: trk.step(loads). Each step costs one back-substitution; the
+// unit responses come from cached columns of K_eff^{-1} at rail DOFs (one
+// back-substitution the first time a node is touched), so the contact part
+// costs 4 vector updates per point. The TrackModel must outlive the
+// integrator. Not thread-safe (the column cache is mutable).
 #pragma once
 
 #include <Eigen/Core>

@@ -105,7 +105,8 @@ TEST(House, FirstFrequencyConvergesWithMeshRefinement) {
   const double d1 = std::abs(f[1] - f[0]), d2 = std::abs(f[2] - f[1]);
   EXPECT_LT(d2, 0.5 * d1 + 1e-3) << f[0] << " " << f[1] << " " << f[2];
   EXPECT_NEAR(f[1] / f[2], 1.0, 0.02);
-  std::printf("[ figures ] first fixed-base frequency, h = 1.0 / 0.5 / 0.25 m: %.3f / %.3f / %.3f Hz\n", f[0], f[1], f[2]);
+  std::printf("[ figures ] first fixed-base frequency, h = 1.0 / 0.5 / 0.25 m: %.3f / %.3f / %.3f Hz\n", f[0], f[1],
+              f[2]);
 }
 
 TEST(House, TransferFunctionIsRigidAtLowFrequencyAndPeaksAtTheFirstMode) {
@@ -178,13 +179,23 @@ TEST(House, UniformHorizontalLowFrequencyMotionCarriesTheHouseRigidly) {
 TEST(House, FootprintPointsInTheTrackFrame) {
   const BuildingParams p = houseParams();
   const auto fp = footprintPoints(p);
-  ASSERT_EQ(fp.size(), 20u);
+  ASSERT_EQ(fp.size(), 21u * 15u);
   // Front wall mid-line: 0.7175 m (exterior rail) + 4 m + half a wall.
   EXPECT_NEAR(fp.front().y_track_m, 0.7175 + 4.0 + 0.125, 1e-9);
   EXPECT_NEAR(fp.front().x_track_m, -5.0 + 0.125, 1e-9);
   EXPECT_NEAR(fp.back().x_track_m, 5.0 - 0.125, 1e-9);
   EXPECT_NEAR(fp.back().y_track_m, 0.7175 + 4.0 + 7.0 - 0.125, 1e-9);
   EXPECT_EQ(fp.front().name, "footprint_0_0");
+  // On the default mesh the footprint grid coincides with the foundation nodes: the ground-floor
+  // response point (x = 7.4375, y = 3.5 m) moves exactly like footprint_15_7.
+  const BuildingModel model(p);
+  BuildingResponseSolver s(model, 1e-3);
+  const size_t k = 7 * 21 + 15;
+  EXPECT_EQ(s.footprint()[k].name, "footprint_15_7");
+  Eigen::MatrixXd v = Eigen::MatrixXd::Random(5, s.inputColumns()) * 1e-3;
+  const Eigen::MatrixXd out = s.process(0, v);
+  for (int i = 0; i < 5; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out(i, c), v(i, 3 * k + c), 1e-15);
 }
 
 TEST(House, BadInputIsRefusedClearly) {

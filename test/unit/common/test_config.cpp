@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 
 #include "railvib/common/config.hpp"
 
@@ -44,7 +44,8 @@ TEST(Range, ContainsAndDescribesBounds) {
 }
 
 TEST(Config, ReadsTypedValuesWithRanges) {
-  const Config c = Config::fromString("track:\n  rail:\n    mass_kg: 54\n    n: 4\n  model: clm\n  on: true\n  v: [1, 2]\n");
+  const Config c =
+      Config::fromString("track:\n  rail:\n    mass_kg: 54\n    n: 4\n  model: clm\n  on: true\n  v: [1, 2]\n");
   const auto rail = c.section("track").section("rail");
   EXPECT_DOUBLE_EQ(rail.number("mass_kg", Range::positive()), 54.0);
   EXPECT_EQ(rail.integer("n", 1, 10), 4);

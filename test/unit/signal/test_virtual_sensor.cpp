@@ -44,7 +44,7 @@ TEST(VirtualSensor, ResamplesAndDifferentiatesASineExactlyInTime) {
     max_v_err = std::max(max_v_err, std::abs(s.velocity_m_s[2] - v * std::sin(w * s.time_s)));
     max_a_err = std::max(max_a_err, std::abs(s.acceleration_m_s2[2] - w * v * std::cos(w * s.time_s)));
   }
-  EXPECT_LT(max_v_err, 1e-3 * v);          // decimator pass band, exact time alignment
+  EXPECT_LT(max_v_err, 1e-3 * v);                 // decimator pass band, exact time alignment
   EXPECT_LT(max_a_err, 2e-3 * 2 * M_PI * f * v);  // differentiator pass-band accuracy
 }
 

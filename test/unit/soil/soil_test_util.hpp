@@ -10,17 +10,22 @@ namespace railvib::soil::testing {
 /// A small self-contained scenario (homogeneous-ish 2-layer soil, short track);
 /// `extra` is appended at the end of the YAML text (overrides by later keys are not
 /// supported by YAML maps, so tests build variants with the arguments).
-inline std::string smallScenario(const std::string& layer1 = "{thickness_m: 1.0, young_modulus_pa: 61.0e6, "
-                                                              "density_kg_m3: 1876.0, poisson_ratio: 0.13}",
-                                 const std::string& mesh_extra = "", const std::string& sensors =
-                                                                          "[{name: s2, x_m: 0.0, y_m: 2.0}]") {
+inline std::string smallScenario(const std::string& layer1 =
+                                     "{thickness_m: 1.0, young_modulus_pa: 61.0e6, "
+                                     "density_kg_m3: 1876.0, poisson_ratio: 0.13}",
+                                 const std::string& mesh_extra = "",
+                                 const std::string& sensors = "[{name: s2, x_m: 0.0, y_m: 2.0}]") {
   return "soil:\n"
          "  layers:\n"
-         "    - " + layer1 + "\n"
+         "    - " +
+         layer1 +
+         "\n"
          "  half_space: {young_modulus_pa: 465.0e6, density_kg_m3: 1992.0, poisson_ratio: 0.3}\n"
          "  rayleigh_beta_s: 4.0e-4\n"
          "  mesh: {f_max_hz: 20.0, elements_per_wavelength: 8.0, x_min_m: -4.0, x_max_m: 4.0, y_min_m: -4.0,"
-         " y_max_m: 4.0, depth_m: 4.0" + mesh_extra + "}\n"
+         " y_max_m: 4.0, depth_m: 4.0" +
+         mesh_extra +
+         "}\n"
          "  boundary: {lysmer_dashpots: true}\n"
          "  loads: {outside_mesh: drop}\n"
          "  output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0}\n"
@@ -30,7 +35,9 @@ inline std::string smallScenario(const std::string& layer1 = "{thickness_m: 1.0,
          "  output: {load_sample_rate_hz: 2000.0}\n"
          "site:\n"
          "  rail_gauge_m: 1.435\n"
-         "  ground_sensors: " + sensors + "\n"
+         "  ground_sensors: " +
+         sensors +
+         "\n"
          "simulation: {duration_s: 0.1}\n";
 }
 

@@ -15,8 +15,7 @@ TEST(SoilColumn, StepVelocityAndBaseReflection) {
     EXPECT_LT(std::abs(r.step_reflection), 0.05);
     EXPECT_LT(r.pulse_reflection, 0.05);
     std::printf("column (%s): v/v_expected - 1 = %.2e, step reflection %.2e, pulse reflection %.2e\n",
-                pr == Precision::Float ? "float" : "double", r.velocity_error, r.step_reflection,
-                r.pulse_reflection);
+                pr == Precision::Float ? "float" : "double", r.velocity_error, r.step_reflection, r.pulse_reflection);
   }
 }
 

@@ -207,7 +207,9 @@ TEST(VehiclePassage, OneImpactPerWheelAtThePaperTimes) {
     RecordProperty("impact_time_axle" + std::to_string(i), std::to_string(t_peak));
     EXPECT_NEAR(t_peak, paper[i], 5e-3) << "axle " << i;
     for (int j = 0; j < 6; ++j) {
-      if (j != i) EXPECT_LT(window_peak[j], peak) << "axle " << i << " near axle " << j << "'s crossing";
+      if (j != i) {
+        EXPECT_LT(window_peak[j], peak) << "axle " << i << " near axle " << j << "'s crossing";
+      }
     }
   }
 }
