@@ -90,8 +90,8 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
     if (node_group[n] < 0) continue;
     const std::string& g = mesh.groups[node_group[n]];
     int comp = 2;
-    if (g == "wall_front" || g == "wall_back") comp = 1;
-    if (g == "wall_left" || g == "wall_right") comp = 0;
+    if (g == "wall_front" || g == "wall_back" || g == "wall_interior_x") comp = 1;
+    if (g == "wall_left" || g == "wall_right" || g == "wall_interior_y") comp = 0;
     energy[g] += m[6 * n + comp] * phi[6 * n + comp] * phi[6 * n + comp];
   }
   if (total <= 0.0) return "none";

@@ -134,6 +134,27 @@ BuildingMesh buildMesh(const BuildingParams& p) {
                                  1.0});
     }
   }
+  // Interior walls: masonry, from the ground slab to the top of the walls, on the nearest mesh line.
+  // (Their crossing with the slabs is counted twice in the mass: t_wall x t_slab per metre, documented.)
+  const int k_ground = level_k[1];
+  for (const InteriorWall& w : p.interior_walls) {
+    const int g = group(w.along == "x" ? "wall_interior_x" : "wall_interior_y");
+    if (w.along == "x") {
+      const int j = static_cast<int>(std::lround((w.position_m - mesh.y0_m) / (mesh.y1_m - mesh.y0_m) * ny));
+      if (j <= 0 || j >= ny) continue;
+      for (int k = k_ground; k + 1 < static_cast<int>(zs.size()); ++k)
+        for (int i = 0; i < nx; ++i)
+          mesh.elements.push_back(
+              {{node(i, j, k), node(i + 1, j, k), node(i + 1, j, k + 1), node(i, j, k + 1)}, kMasonry, g, 1.0});
+    } else {
+      const int i = static_cast<int>(std::lround((w.position_m - mesh.x0_m) / (mesh.x1_m - mesh.x0_m) * nx));
+      if (i <= 0 || i >= nx) continue;
+      for (int k = k_ground; k + 1 < static_cast<int>(zs.size()); ++k)
+        for (int j = 0; j < ny; ++j)
+          mesh.elements.push_back(
+              {{node(i, j, k), node(i, j + 1, k), node(i, j + 1, k + 1), node(i, j, k + 1)}, kMasonry, g, 1.0});
+    }
+  }
   // Slabs (mass only over the clear interior between the walls' faces).
   for (size_t l = 0; l < levels.size(); ++l) {
     if (levels[l].group.empty()) continue;

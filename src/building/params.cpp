@@ -133,6 +133,15 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
     }
   }
 
+  if (b.has("interior_walls")) {
+    for (const ConfigNode& n : b.sectionList("interior_walls")) {
+      InteriorWall w;
+      w.along = n.choice("along", {"x", "y"});
+      const double span = w.along == "x" ? p.width_m : p.length_m;
+      w.position_m = n.number("position_m", Range::open(p.wall_thickness_m, span - p.wall_thickness_m));
+      p.interior_walls.push_back(w);
+    }
+  }
   if (root.has("site")) {
     const ConfigNode site = root.section("site");
     const double gauge = site.number("rail_gauge_m", Range::positive());

@@ -11,6 +11,9 @@ namespace railvib::soil {
 namespace {
 
 constexpr size_t kChunk = 64;
+// Below this many elements (nodes) per step the work (< ~0.5 ms) does not pay for
+// the OpenMP fork/join and barriers: run serially.
+constexpr size_t kMinParallelElements = 20000;
 
 // One element level k, element rows j in [j_begin, j_end): f -= K_e w, element by element,
 // vectorised over the elements of a row (x). The element outputs go to a small buffer,
@@ -134,7 +137,7 @@ struct ImplT : Solver::Impl {
   void applyK(const Real* const in[3], Real* const out[3]) {
     const size_t nz = mesh->nz, nx = mesh->nx, ny = mesh->ny;
     const int t_eff = static_cast<int>(std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(threads), nz / 2)));
-#pragma omp parallel num_threads(t_eff)
+#pragma omp parallel num_threads(t_eff) if (t_eff > 1 && nx * ny * nz >= kMinParallelElements)
     {
       const size_t t = static_cast<size_t>(omp_get_thread_num());
       const size_t nt = static_cast<size_t>(omp_get_num_threads());
@@ -157,7 +160,7 @@ struct ImplT : Solver::Impl {
       }
     }
     const Real one_e = Real(1) - e_filter;
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) if (threads > 1 && n >= kMinParallelElements)
     for (int d = 0; d < 3; ++d) {
       Real* __restrict ud = u[d].data();
       Real* __restrict vd = v[d].data();

@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <vector>
@@ -52,12 +53,14 @@ int vehicleModes(const std::vector<std::string>& args) {
   addConfigOptions(p);
   p.option("track", "rigid | flexible", "rigid");
   p.option("foundation", "flexible track foundation: clm | winkler (default: config)", "");
-  p.option("min-vehicle-share", "flexible: keep modes with at least this share of kinetic energy in the vehicle", "0.5");
-  p.option("margin", "flexible: local track length beyond the end axles (m)", "10");
+  p.option("min-vehicle-share", "flexible: keep modes with at least this share of kinetic energy in the vehicle",
+           "0.3");
+  p.option("margin", "flexible: local track length beyond the end axles (m)", "6");
   if (!p.parse(args)) return 0;
   const std::string track = trackChoice(p);
   std::vector<std::string> extra;
-  if (p.has("foundation") && !p.get("foundation").empty()) extra.push_back("track.foundation.model=" + p.get("foundation"));
+  if (p.has("foundation") && !p.get("foundation").empty())
+    extra.push_back("track.foundation.model=" + p.get("foundation"));
   const Config cfg = loadWith(p, extra);
   const auto t0 = std::chrono::steady_clock::now();
   const VehicleModel model(loadVehicleParams(cfg.root()));
@@ -72,7 +75,10 @@ int vehicleModes(const std::vector<std::string>& args) {
     modes = vehicleModesFlexible(model, tp, mo);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  json out = {{"track", track}, {"dof", model.dofCount()}, {"wall_time_s", wall}, {"modes", modesJson(modes, track == "flexible")}};
+  json out = {{"track", track},
+              {"dof", model.dofCount()},
+              {"wall_time_s", wall},
+              {"modes", modesJson(modes, track == "flexible")}};
   if (track == "rigid") {
     out["linearised_hertz_stiffness_n_m"] = linearisedHertzStiffness(model);
   }
@@ -94,15 +100,17 @@ int wheelImpedance(const std::vector<std::string>& args) {
   const Config cfg = loadWith(p, {});
   const VehicleModel model(loadVehicleParams(cfg.root()));
   const int wheel = static_cast<int>(p.getInt("wheel"));
-  if (wheel < 0 || wheel >= model.wheelCount()) throw ArgError("--wheel must be in 0.." + std::to_string(model.wheelCount() - 1));
+  if (wheel < 0 || wheel >= model.wheelCount())
+    throw ArgError("--wheel must be in 0.." + std::to_string(model.wheelCount() - 1));
   const double f0 = p.getDouble("f-min"), f1 = p.getDouble("f-max");
   const long n = p.getInt("points");
   if (!(f0 > 0.0 && f1 > f0 && n >= 2)) throw ArgError("need 0 < --f-min < --f-max and --points >= 2");
   std::vector<double> f(static_cast<size_t>(n));
   for (long k = 0; k < n; ++k) f[static_cast<size_t>(k)] = f0 * std::pow(f1 / f0, static_cast<double>(k) / (n - 1));
   const auto t0 = std::chrono::steady_clock::now();
-  const auto Z = track == "rigid" ? wheelImpedanceRigid(model, wheel, f)
-                                  : wheelImpedanceFlexible(model, track::loadTrackParams(cfg.section("track")), wheel, f);
+  const auto Z = track == "rigid"
+                     ? wheelImpedanceRigid(model, wheel, f)
+                     : wheelImpedanceFlexible(model, track::loadTrackParams(cfg.section("track")), wheel, f);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   size_t imin = 0;
   for (size_t k = 0; k < Z.size(); ++k) {
@@ -181,7 +189,12 @@ int passage(const std::vector<std::string>& args) {
   const size_t ns = sleepers.size();
   if (track == "flexible") {
     std::vector<std::string> cols{"t_s"};
-    for (size_t s = 0; s < ns; ++s) cols.push_back("sleeper_" + std::to_string(s));
+    // same header as `railvib_tool moving-load`: x_<sleeper position, 6 significant digits>
+    for (size_t s = 0; s < ns; ++s) {
+      std::ostringstream name;
+      name << "x_" << std::setprecision(6) << sleepers[s];
+      cols.push_back(name.str());
+    }
     scsv = std::make_unique<io::CsvWriter>(dir + "/soil_loads.csv", cols);
     signal::DecimatorSpec spec;
     spec.input_rate_hz = 1.0 / pp.time_step_s;
@@ -256,7 +269,8 @@ int passage(const std::vector<std::string>& args) {
   json wheels = json::array();
   for (int i = 0; i < nw; ++i) {
     const double x0 = pp.front_axle_start_m - model.wheels()[i].offset_m;
-    const double t_defect = up.defect.enabled ? (up.defect.position_m + 0.5 * up.defect.length_m - x0) / pp.speed_m_s : -1.0;
+    const double t_defect =
+        up.defect.enabled ? (up.defect.position_m + 0.5 * up.defect.length_m - x0) / pp.speed_m_s : -1.0;
     wheels.push_back({{"axle", i},
                       {"type", model.wheels()[i].type == AxleType::Motor ? "motor" : "trailer"},
                       {"static_force_n", s0.contact_force_n[i]},

@@ -271,9 +271,9 @@ std::vector<std::complex<double>> wheelImpedanceFlexible(const VehicleModel& mod
     const Eigen::MatrixXcd X = lu.solve(rhs);
     const Eigen::MatrixXcd Rt = rhs.transpose() * X;  // nw x nw rail receptance (m/N)
     // contact springs in series with the rail: F = (I + kH Rt)^{-1} kH w_wheel
-    const Eigen::MatrixXcd Kc =
-        (Eigen::MatrixXcd::Identity(nw, nw) + kH.cast<cd>().asDiagonal() * Rt).partialPivLu().solve(
-            Eigen::MatrixXcd(kH.cast<cd>().asDiagonal()));
+    const Eigen::MatrixXcd Kc = (Eigen::MatrixXcd::Identity(nw, nw) + kH.cast<cd>().asDiagonal() * Rt)
+                                    .partialPivLu()
+                                    .solve(Eigen::MatrixXcd(kH.cast<cd>().asDiagonal()));
     const Eigen::MatrixXcd Dv = model.stiffness().cast<cd>() - cd(w * w) * model.mass().cast<cd>() +
                                 iw * model.damping().cast<cd>() + B.cast<cd>() * Kc * B.transpose().cast<cd>();
     Eigen::VectorXcd e = Eigen::VectorXcd::Zero(Dv.rows());

@@ -258,8 +258,9 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
     const double hi = *std::max_element(x1.begin(), x1.end());
     if (lo < rail_->xMin() || hi > rail_->xMax()) {
       std::ostringstream msg;
-      msg << "the wheels run over x in [" << lo << ", " << hi << "] m during simulation.duration_s = "
-          << params_.duration_s << " s, outside the usable track [" << rail_->xMin() << ", " << rail_->xMax()
+      msg << "the wheels run over x in [" << lo << ", " << hi
+          << "] m during simulation.duration_s = " << params_.duration_s << " s, outside the usable track ["
+          << rail_->xMin() << ", " << rail_->xMax()
           << "] m (track.extent minus the absorbing ends): extend the track or shorten the run";
       throw ConfigError(msg.str());
     }

@@ -113,8 +113,6 @@ double Unevenness::measuredHeight(double x) const {
   return (1.0 - f) * measured_z_[i] + f * measured_z_[j];
 }
 
-double Unevenness::height(double x, double R) const {
-  return defectHeight(x, R) + randomHeight(x) + measuredHeight(x);
-}
+double Unevenness::height(double x, double R) const { return defectHeight(x, R) + randomHeight(x) + measuredHeight(x); }
 
 }  // namespace railvib::vehicle

@@ -29,9 +29,11 @@ VehicleModel::VehicleModel(const VehicleParams& p) : params_(p) {
   for (int c = 0; c < 3; ++c) {
     const bool central = c == 1;
     BodyInfo body{kCarNames[c], BodyKind::Carbody, c, s_car[c], -1, -1};
-    body.z_dof = addDof(std::string(kCarNames[c]) + ".z", share * (central ? p.central_carbody_mass_kg : p.end_carbody_mass_kg));
-    body.theta_dof = addDof(std::string(kCarNames[c]) + ".theta",
-                            share * (central ? p.central_carbody_pitch_inertia_kg_m2 : p.end_carbody_pitch_inertia_kg_m2));
+    body.z_dof =
+        addDof(std::string(kCarNames[c]) + ".z", share * (central ? p.central_carbody_mass_kg : p.end_carbody_mass_kg));
+    body.theta_dof =
+        addDof(std::string(kCarNames[c]) + ".theta",
+               share * (central ? p.central_carbody_pitch_inertia_kg_m2 : p.end_carbody_pitch_inertia_kg_m2));
     bodies_.push_back(body);
   }
   for (int b = 0; b < 3; ++b) {

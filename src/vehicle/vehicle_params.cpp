@@ -88,12 +88,12 @@ VehicleParams loadVehicleParams(const ConfigNode& root) {
   const auto& a = p.articulation_offsets_m;
   const auto& c = p.carbody_com_offsets_m;
   if (!(b0 < a[0] && a[0] < b1 && b1 < a[1] && a[1] < b2)) {
-    geo.fail("articulation_offsets_m", "articulations must lie between the bogie centres (" + fmt(b0) + ", " +
-                                           fmt(b1) + ", " + fmt(b2) + " m behind the front axle)");
+    geo.fail("articulation_offsets_m", "articulations must lie between the bogie centres (" + fmt(b0) + ", " + fmt(b1) +
+                                           ", " + fmt(b2) + " m behind the front axle)");
   }
   if (!(c[0] < a[0] && a[0] < c[1] && c[1] < a[1] && a[1] < c[2])) {
-    geo.fail("carbody_com_offsets_m", "each carbody centre must lie inside its section (articulations at " +
-                                          fmt(a[0]) + " and " + fmt(a[1]) + " m)");
+    geo.fail("carbody_com_offsets_m", "each carbody centre must lie inside its section (articulations at " + fmt(a[0]) +
+                                          " and " + fmt(a[1]) + " m)");
   }
   const ConfigNode art = v.section("articulation");
   art.choice("model", {"vertical_pin"});

@@ -43,7 +43,7 @@ struct BuildingMesh {
   std::vector<MeshElement> elements;
   std::vector<SectionInfo> sections;
   std::vector<std::string>
-      groups;  ///< wall_front, wall_back, wall_left, wall_right, foundation_walls, base_slab, slab_0...
+      groups;  ///< wall_front/back/left/right, wall_interior_x/y, foundation_walls, base_slab, slab_k, roof
   std::vector<double> slab_levels_m;                      ///< z of slabs above the foundation base (ground floor first)
   double x0_m = 0.0, x1_m = 0.0, y0_m = 0.0, y1_m = 0.0;  ///< wall mid-line rectangle
   double element_size_m = 0.0;

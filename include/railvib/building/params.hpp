@@ -39,6 +39,12 @@ struct Opening {
   double height_m = 0.0;
 };
 
+/// A full-height interior masonry wall (same section as the exterior walls), snapped to the nearest mesh line.
+struct InteriorWall {
+  std::string along;        ///< x: runs along the length at y = position_m; y: across the width at x = position_m
+  double position_m = 0.0;  ///< building frame
+};
+
 struct BuildingParams {
   // Geometry [paper]: outer plan dimensions and height above the ground surface.
   double length_m = 10.0;
@@ -68,6 +74,7 @@ struct BuildingParams {
   int footprint_ny = 15;
   std::vector<NamedPoint> response_points;
   std::vector<Opening> openings;
+  std::vector<InteriorWall> interior_walls;  ///< [assumed] none by default
 
   // Placement in the track frame (from `site`).
   double origin_x_track_m = 0.0;  ///< track x of the building frame origin

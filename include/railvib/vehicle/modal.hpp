@@ -28,18 +28,18 @@ struct TrackParams;
 namespace railvib::vehicle {
 
 struct Mode {
-  std::string name;          ///< e.g. "car-body bounce", "leading bogie pitch"
-  std::string body;          ///< body with the largest kinetic energy share
-  double frequency_hz = 0.0;  ///< undamped natural frequency |lambda| / 2 pi
-  double damping_ratio = 0.0;  ///< -Re(lambda) / |lambda|
-  double name_share = 0.0;     ///< share of the vehicle kinetic energy in the named category
+  std::string name;                   ///< e.g. "car-body bounce", "leading bogie pitch"
+  std::string body;                   ///< body with the largest kinetic energy share
+  double frequency_hz = 0.0;          ///< undamped natural frequency |lambda| / 2 pi
+  double damping_ratio = 0.0;         ///< -Re(lambda) / |lambda|
+  double name_share = 0.0;            ///< share of the vehicle kinetic energy in the named category
   double vehicle_energy_share = 1.0;  ///< share of the total kinetic energy in the vehicle (flexible)
 };
 
 struct ModalOptions {
-  double margin_m = 12.0;
+  double margin_m = 6.0;
   double basis_cutoff_hz = 600.0;
-  double min_vehicle_energy_share = 0.5;
+  double min_vehicle_energy_share = 0.3;
   double front_axle_x_m = 0.0;
 };
 

@@ -107,10 +107,10 @@ int solveHertzContact(const Eigen::VectorXd& d_free, const Eigen::MatrixXd& G, d
 
 /// Static equilibrium of the vehicle on the rail with wheels at x (m).
 struct StaticState {
-  Eigen::VectorXd q;                  ///< reduced displacements (m, rad), downward
-  Eigen::VectorXd contact_force_n;    ///< per wheel
+  Eigen::VectorXd q;                    ///< reduced displacements (m, rad), downward
+  Eigen::VectorXd contact_force_n;      ///< per wheel
   Eigen::VectorXd rail_displacement_m;  ///< rail static displacement under each wheel
-  Eigen::VectorXd compression_m;      ///< Hertz compression per wheel
+  Eigen::VectorXd compression_m;        ///< Hertz compression per wheel
   int iterations = 0;
 };
 StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, const std::vector<double>& x_m,
@@ -124,13 +124,13 @@ struct PassageBlock {
   int body_count = 0;
   int sleeper_count = 0;
   std::vector<double> time_s;
-  std::vector<double> wheel_x_m;              ///< contact point position along the track
-  std::vector<double> contact_force_n;        ///< compression positive
-  std::vector<double> unevenness_m;           ///< height under the wheel (up)
-  std::vector<double> rail_displacement_m;    ///< rail under the wheel (down)
-  std::vector<double> wheel_displacement_m;   ///< contact DOF of the wheel (down)
-  std::vector<BodyPose> poses;                ///< [k * body_count + b] when record_poses
-  std::vector<double> ballast_force_n;        ///< half track, [k * sleeper_count + s] when record_ballast
+  std::vector<double> wheel_x_m;             ///< contact point position along the track
+  std::vector<double> contact_force_n;       ///< compression positive
+  std::vector<double> unevenness_m;          ///< height under the wheel (up)
+  std::vector<double> rail_displacement_m;   ///< rail under the wheel (down)
+  std::vector<double> wheel_displacement_m;  ///< contact DOF of the wheel (down)
+  std::vector<BodyPose> poses;               ///< [k * body_count + b] when record_poses
+  std::vector<double> ballast_force_n;       ///< half track, [k * sleeper_count + s] when record_ballast
   size_t sampleCount() const { return time_s.size(); }
   void clear();
 };

@@ -37,28 +37,28 @@ enum class BodyKind { Carbody, Bogie, MotorWheel, Tread, TrailerWheel };
 
 /// A rigid body of the model (for poses and mode names).
 struct BodyInfo {
-  std::string name;                ///< e.g. "front_carbody", "leading_bogie", "axle0_tread"
+  std::string name;  ///< e.g. "front_carbody", "leading_bogie", "axle0_tread"
   BodyKind kind = BodyKind::Carbody;
-  int index = 0;                   ///< carbody/bogie index 0..2, or axle index
-  double offset_m = 0.0;           ///< reference point behind the front axle
-  Eigen::Index z_dof = -1;         ///< full-coordinate index of z
-  Eigen::Index theta_dof = -1;     ///< full-coordinate index of theta (-1: no pitch)
+  int index = 0;                ///< carbody/bogie index 0..2, or axle index
+  double offset_m = 0.0;        ///< reference point behind the front axle
+  Eigen::Index z_dof = -1;      ///< full-coordinate index of z
+  Eigen::Index theta_dof = -1;  ///< full-coordinate index of theta (-1: no pitch)
 };
 
 struct WheelInfo {
   int axle = 0;
   AxleType type = AxleType::Motor;
-  double offset_m = 0.0;           ///< behind the front axle
+  double offset_m = 0.0;  ///< behind the front axle
   double radius_m = 0.34;
   int bogie = 0;
-  Eigen::Index contact_dof = -1;   ///< reduced-coordinate DOF carrying the contact (tread / trailer wheel)
+  Eigen::Index contact_dof = -1;  ///< reduced-coordinate DOF carrying the contact (tread / trailer wheel)
 };
 
 /// Pose of a body (per sample, for the node's tf): downward displacement and nose-up pitch.
 struct BodyPose {
-  double offset_m = 0.0;           ///< reference point behind the front axle
+  double offset_m = 0.0;                 ///< reference point behind the front axle
   double vertical_displacement_m = 0.0;  ///< positive downward (from the unloaded reference)
-  double pitch_rad = 0.0;          ///< positive nose-up
+  double pitch_rad = 0.0;                ///< positive nose-up
 };
 
 class VehicleModel {

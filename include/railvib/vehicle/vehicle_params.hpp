@@ -45,8 +45,8 @@ struct VehicleParams {
   double secondary_damping_n_s_m = 56.25e3;
   // axles: offsets behind the front axle (m), strictly increasing, 2 per bogie
   std::vector<double> axle_offsets_m{0.0, 1.6667, 7.5, 9.1667, 15.0, 16.6667};
-  std::vector<AxleType> axle_types{AxleType::Motor,   AxleType::Trailer, AxleType::Motor,
-                                   AxleType::Motor,   AxleType::Trailer, AxleType::Motor};
+  std::vector<AxleType> axle_types{AxleType::Motor, AxleType::Trailer, AxleType::Motor,
+                                   AxleType::Motor, AxleType::Trailer, AxleType::Motor};
   double hertz_constant_n_m1_5 = 1.0e11;
   // half-vehicle convention
   double body_share_per_rail = 0.5;
@@ -84,8 +84,8 @@ struct RandomIrregularityParams {
 
 struct MeasuredProfileParams {
   bool enabled = false;
-  std::string file;         ///< CSV with columns x_m, z_m (z up, m)
-  double scale = 1.0;       ///< multiplies z
+  std::string file;    ///< CSV with columns x_m, z_m (z up, m)
+  double scale = 1.0;  ///< multiplies z
 };
 
 struct DefectParams {

@@ -220,3 +220,30 @@ TEST(House, BadInputIsRefusedClearly) {
   e = configError({"building.response_points=[{name: air, x_m: 5.0, y_m: 3.5, z_m: 1.2}]"});
   EXPECT_NE(e.find("not on a wall or a slab"), std::string::npos) << e;
 }
+
+TEST(House, OpeningRemovesItsWallMass) {
+  // Window in the front wall, 1.5 m x 1.2 m at 2 m from the corner, sill at 1 m. Elements whose centre lies
+  // inside are removed: on the 0.4875 m x 0.5 m grid that is 3 x 2 elements = 1.4625 m x 1.0 m of masonry.
+  const BuildingModel plain(houseParams());
+  const BuildingModel window(
+      houseParams({"building.openings=[{wall: front, start_m: 2.0, bottom_m: 1.0, width_m: 1.5, height_m: 1.2}]"}));
+  EXPECT_NEAR(plain.totalMass() - window.totalMass(), 1800 * 0.25 * 1.4625 * 1.0, 1e-6);
+  EXPECT_EQ(plain.mesh().elements.size() - window.mesh().elements.size(), 6u);
+  std::string e =
+      configError({"building.openings=[{wall: left, start_m: 6.0, bottom_m: 1.0, width_m: 1.5, height_m: 1.2}]"});
+  EXPECT_NE(e.find("runs past the end of the wall"), std::string::npos) << e;
+}
+
+TEST(House, InteriorWallAddsItsMassAndStiffensTheFloor) {
+  // A cross wall at mid-length (snapped to x = 5.0 m) from the ground slab to the top: 6.75 m x 5 m of masonry.
+  const BuildingModel plain(houseParams());
+  const BuildingModel walled(houseParams({"building.interior_walls=[{along: y, position_m: 5.0}]"}));
+  EXPECT_NEAR(walled.totalMass() - plain.totalMass(), 1800 * 0.25 * 6.75 * 5.0, 1e-6);
+  ModalOptions opt;
+  opt.fmax_hz = 0.0;
+  opt.min_modes = 1;
+  // The floor now spans 4.9 m instead of 9.75 m: its fundamental rises well above the plain house's.
+  EXPECT_GT(modalAnalysis(walled, opt).modes[0].frequency_hz, 1.3 * modalAnalysis(plain, opt).modes[0].frequency_hz);
+  const std::string e = configError({"building.interior_walls=[{along: x, position_m: 6.9}]"});
+  EXPECT_NE(e.find("building.interior_walls[0].position_m"), std::string::npos) << e;
+}

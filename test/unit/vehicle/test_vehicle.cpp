@@ -241,7 +241,7 @@ TEST(VehiclePassage, HalvingDtChangesPeakForceLessThanTwoPercent) {
   double peak[2];
   for (int r = 0; r < 2; ++r) {
     Scenario s({"simulation.duration_s=0.06", "simulation.front_axle_start_m=-0.2",
-             std::string("simulation.time_step_s=") + (r == 0 ? "2.0e-5" : "1.0e-5")});
+                std::string("simulation.time_step_s=") + (r == 0 ? "2.0e-5" : "1.0e-5")});
     VehiclePassage run(s.model, s.unevenness, s.pp, s.rail(true));
     const auto F = runForces(run);
     peak[r] = 0.0;
@@ -286,14 +286,13 @@ TEST(VehicleModes, RigidTrackBogieMatchesHandDerivedTwoMassCheck) {
   // front axle, trailer k_d at the rear) and the secondary k_2 to a carbody
   // that is quasi-fixed at these frequencies: a 2-DOF system by hand.
   Scenario s({"vehicle.contact.hertz_constant_n_m1_5=1.0e16", "vehicle.motor_wheel.ring_stiffness_n_m=1.0e13",
-           "vehicle.motor_wheel.ring_damping_n_s_m=0", "vehicle.primary_suspension.motor_damping_n_s_m=0",
-           "vehicle.primary_suspension.trailer_damping_n_s_m=0", "vehicle.secondary_suspension.damping_n_s_m=0"});
+              "vehicle.motor_wheel.ring_damping_n_s_m=0", "vehicle.primary_suspension.motor_damping_n_s_m=0",
+              "vehicle.primary_suspension.trailer_damping_n_s_m=0", "vehicle.secondary_suspension.damping_n_s_m=0"});
   const auto& p = s.model.params();
   const double m = 0.5 * p.bogie_mass_kg, I = 0.5 * p.bogie_pitch_inertia_kg_m2;
   const double c = 0.5 * (p.axle_offsets_m[0] + p.axle_offsets_m[1]);
   const double lm = p.axle_offsets_m[0] - c, ld = p.axle_offsets_m[1] - c;
-  const double km = p.motor_primary_stiffness_n_m, kd = p.trailer_primary_stiffness_n_m,
-               k2 = p.secondary_stiffness_n_m;
+  const double km = p.motor_primary_stiffness_n_m, kd = p.trailer_primary_stiffness_n_m, k2 = p.secondary_stiffness_n_m;
   Eigen::Matrix2d K, M;
   K << km + kd + k2, km * lm + kd * ld, km * lm + kd * ld, km * lm * lm + kd * ld * ld;
   M << m, 0, 0, I;
