@@ -1,0 +1,40 @@
+// railvib ROS layer: vehicle node. Runs the coupled vehicle/track passage
+// (railvib::vehicle::VehiclePassage) block by block and publishes
+// ContactForces blocks and the tram's body poses on tf (frames tram/<body>,
+// stamped with simulation time), with progress on the console and /diagnostics.
+#pragma once
+
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <memory>
+
+#include "railvib/ContactForces.h"
+#include "railvib/ros/block_publisher.hpp"
+#include "railvib/ros/node_status.hpp"
+#include "railvib/vehicle/passage.hpp"
+
+namespace railvib::ros_io {
+
+class VehicleNode {
+ public:
+  /// Private parameters: ~track (flexible|rigid, default flexible), ~block_samples (default 1000),
+  /// ~required_subscribers (default 1), ~tf_period_s (simulated time between tf poses, default 0.01).
+  VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// Run the whole passage (returns when done or on shutdown).
+  void run();
+
+ private:
+  void publishPoses(const vehicle::PassageBlock& block);
+
+  std::unique_ptr<vehicle::VehicleModel> model_;
+  std::unique_ptr<vehicle::Unevenness> unevenness_;
+  std::unique_ptr<vehicle::VehiclePassage> passage_;
+  BlockPublisher<railvib::ContactForces> publisher_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  std::unique_ptr<NodeStatus> status_;
+  size_t block_samples_ = 1000;
+  uint64_t tf_every_ = 1000;
+};
+
+}  // namespace railvib::ros_io

@@ -1,0 +1,112 @@
+#include "railvib/ros/vehicle_node.hpp"
+
+#include <geometry_msgs/TransformStamped.h>
+
+#include <cmath>
+
+#include "railvib/ros/node_config.hpp"
+#include "railvib/track/track_model.hpp"
+
+namespace railvib::ros_io {
+
+namespace {
+// Display heights of the body reference points above the rail head (m), for
+// RViz only: the model's displacements are relative to its unloaded reference.
+double displayHeight(vehicle::BodyKind kind, double wheel_radius_m) {
+  switch (kind) {
+    case vehicle::BodyKind::Carbody:
+      return 1.9;
+    case vehicle::BodyKind::Bogie:
+      return 0.6;
+    default:
+      return wheel_radius_m;
+  }
+}
+}  // namespace
+
+VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
+  const Config config = loadNodeConfig(nh);
+  std::string track = "flexible";
+  int block_samples = 1000;
+  int required_subscribers = 1;
+  double tf_period_s = 0.01;
+  private_nh.param("track", track, track);
+  private_nh.param("block_samples", block_samples, block_samples);
+  private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  private_nh.param("tf_period_s", tf_period_s, tf_period_s);
+  if (track != "flexible" && track != "rigid") throw std::runtime_error("~track must be flexible or rigid, not " + track);
+  block_samples_ = static_cast<size_t>(std::max(1, block_samples));
+
+  model_ = std::make_unique<vehicle::VehicleModel>(vehicle::loadVehicleParams(config.root()));
+  const vehicle::PassageParams passage_params = vehicle::loadPassageParams(config.root());
+  const track::TrackParams track_params = track::loadTrackParams(config.section("track"));
+  unevenness_ = std::make_unique<vehicle::Unevenness>(vehicle::loadUnevennessParams(config.root()),
+                                                      track_params.x_min_m, track_params.x_max_m);
+  std::unique_ptr<vehicle::RailSupport> rail;
+  if (track == "rigid") {
+    rail = std::make_unique<vehicle::RigidRail>();
+  } else {
+    rail = std::make_unique<vehicle::FlexibleRail>(track_params, passage_params.time_step_s);
+  }
+  vehicle::PassageOptions options;
+  options.record_poses = true;
+  passage_ = std::make_unique<vehicle::VehiclePassage>(*model_, *unevenness_, passage_params, std::move(rail), options);
+  tf_every_ = std::max<uint64_t>(1, static_cast<uint64_t>(std::llround(tf_period_s / passage_params.time_step_s)));
+  publisher_ = BlockPublisher<railvib::ContactForces>(nh, "contact_forces", required_subscribers);
+  status_ = std::make_unique<NodeStatus>(nh, "vehicle", passage_params.duration_s);
+  ROS_INFO("vehicle: %d wheels on a %s track, dt %.3g s, %lu samples", model_->wheelCount(), track.c_str(),
+           passage_params.time_step_s, static_cast<unsigned long>(passage_->totalSamples()));
+}
+
+void VehicleNode::run() {
+  vehicle::PassageBlock block;
+  const double dt = passage_->params().time_step_s;
+  while (!passage_->finished() && ros::ok()) {
+    const size_t n = passage_->advance(block_samples_, block);
+    railvib::ContactForces msg;
+    msg.header.frame_id = "track";
+    msg.header.stamp = ros::Time(static_cast<double>(block.first_index) * dt);
+    msg.first_sample_index = block.first_index;
+    msg.end_of_stream = passage_->finished();
+    msg.sample_period_s = dt;
+    msg.sample_count = static_cast<uint32_t>(n);
+    msg.wheel_count = static_cast<uint32_t>(block.wheel_count);
+    msg.position_m = block.wheel_x_m;
+    msg.force_n = block.contact_force_n;
+    msg.unevenness_m = block.unevenness_m;
+    publisher_.publish(msg);
+    publishPoses(block);
+    status_->countSamples("contact_forces out", n);
+    status_->update(passage_->time(), passage_->finished());
+  }
+  status_->finish(passage_->time());
+}
+
+void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
+  const auto& bodies = model_->bodies();
+  const double radius = model_->params().motor_wheel.radius_m;
+  std::vector<geometry_msgs::TransformStamped> transforms;
+  for (size_t k = 0; k < block.sampleCount(); ++k) {
+    const uint64_t index = block.first_index + k;
+    if (index % tf_every_ != 0) continue;
+    const double t = block.time_s[k];
+    const double front_x = passage_->params().front_axle_start_m + passage_->params().speed_m_s * t;
+    for (int b = 0; b < block.body_count; ++b) {
+      const vehicle::BodyPose& pose = block.poses[k * static_cast<size_t>(block.body_count) + static_cast<size_t>(b)];
+      geometry_msgs::TransformStamped tf;
+      tf.header.stamp = ros::Time(t);
+      tf.header.frame_id = "track";
+      tf.child_frame_id = "tram/" + bodies[static_cast<size_t>(b)].name;
+      tf.transform.translation.x = front_x - pose.offset_m;
+      tf.transform.translation.y = 0.0;
+      tf.transform.translation.z = displayHeight(bodies[static_cast<size_t>(b)].kind, radius) - pose.vertical_displacement_m;
+      // Nose-up pitch is a negative rotation about +y (x forward, z up).
+      tf.transform.rotation.y = std::sin(-0.5 * pose.pitch_rad);
+      tf.transform.rotation.w = std::cos(-0.5 * pose.pitch_rad);
+      transforms.push_back(tf);
+    }
+  }
+  if (!transforms.empty()) tf_broadcaster_.sendTransform(transforms);
+}
+
+}  // namespace railvib::ros_io
