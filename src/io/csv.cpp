@@ -1,5 +1,6 @@
 #include "railvib/io/csv.hpp"
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -47,13 +48,11 @@ CsvTable readCsv(const std::string& path) {
     std::vector<double> row;
     std::stringstream ss(line);
     for (std::string cell; std::getline(ss, cell, ',');) {
-      size_t used = 0;
-      double v = 0.0;
-      try {
-        v = std::stod(cell, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
+      // strtod, not stod: stod refuses subnormal values (ERANGE on underflow), which are valid numbers here.
+      const char* begin = cell.c_str();
+      char* end = nullptr;
+      const double v = std::strtod(begin, &end);
+      const size_t used = static_cast<size_t>(end - begin);
       if (used == 0) throw std::runtime_error(path + ":" + std::to_string(line_no) + ": not a number: '" + cell + "'");
       row.push_back(v);
     }

@@ -84,7 +84,7 @@ void VehicleNode::run() {
 
 void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
   const auto& bodies = model_->bodies();
-  const double radius = model_->params().motor_wheel.radius_m;
+  const double radius = model_->params().motor_radius_m;
   std::vector<geometry_msgs::TransformStamped> transforms;
   for (size_t k = 0; k < block.sampleCount(); ++k) {
     const uint64_t index = block.first_index + k;

@@ -2,10 +2,10 @@
 //
 // Frame `track`: x along the track (direction of travel), y lateral towards
 // the building, z up; origin on the track axis at the defect, at the top of
-// the soil. Frame `building`: origin at the middle of the front (long) wall's
-// outer face at ground level, axes parallel to `track` (x along the front
-// wall, y into the building, z up). Sensor frames: one per sensor, at the
-// sensor, axes parallel to `track`.
+// the soil. Frame `building`: origin at the outer corner of the front (long)
+// wall at low x, on the ground surface, axes parallel to `track` (x along the
+// front wall, y into the building, z up). Sensor frames: one per sensor, at
+// the sensor, axes parallel to `track`.
 #pragma once
 
 #include <string>

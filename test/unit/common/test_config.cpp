@@ -115,6 +115,7 @@ TEST(SiteLayout, PlacesBuildingFourMetresFromExteriorRail) {
   const railvib::SiteLayout site = railvib::loadSiteLayout(c);
   EXPECT_NEAR(site.building_origin_y_m - site.exterior_rail_y_m, 4.0, 1e-12);  // [paper]
   EXPECT_NEAR(site.exterior_rail_y_m, 1.435 / 2, 1e-12);
+  EXPECT_NEAR(site.building_origin_x_m, -5.0, 1e-12);  // 10 m front wall centred on the defect
   ASSERT_EQ(site.ground_sensors.size(), 2u);
   EXPECT_EQ(site.ground_sensors[0].name, "ground_2m");
   EXPECT_NEAR(site.ground_sensors[1].y_m, 8.0, 1e-12);
@@ -122,7 +123,7 @@ TEST(SiteLayout, PlacesBuildingFourMetresFromExteriorRail) {
 
 TEST(SiteLayout, RejectsDuplicateSensorNames) {
   const Config c = Config::fromString(
-      "site:\n  rail_gauge_m: 1.435\n  building: {center_x_m: 0, front_wall_distance_from_rail_m: 4}\n"
+      "building: {length_m: 10}\nsite:\n  rail_gauge_m: 1.435\n  building: {center_x_m: 0, front_wall_distance_from_rail_m: 4}\n"
       "  ground_sensors:\n    - {name: a, x_m: 0, y_m: 2}\n    - {name: a, x_m: 0, y_m: 8}\n");
   EXPECT_THROW(railvib::loadSiteLayout(c), ConfigError);
 }

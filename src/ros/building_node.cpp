@@ -1,0 +1,104 @@
+#include "railvib/ros/building_node.hpp"
+
+#include <algorithm>
+
+#include "railvib/ros/node_config.hpp"
+
+namespace railvib::ros_io {
+
+BuildingNode::BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
+  const Config config = loadNodeConfig(nh);
+  const building::BuildingParams params = building::loadBuildingParams(config.root());
+  origin_x_m_ = params.origin_x_track_m;
+  origin_y_m_ = params.origin_y_track_m;
+  model_ = std::make_unique<building::BuildingModel>(params);
+  footprint_ = building::footprintPoints(params);
+  status_ = std::make_unique<NodeStatus>(nh, "building",
+                                         config.section("simulation").number("duration_s", Range::positive()));
+  int required_subscribers = 1;
+  private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  publisher_ = BlockPublisher<railvib::BuildingResponse>(nh, "building_response", required_subscribers);
+  layout_publisher_ = nh.advertise<railvib::PointLayout>("building_points", 1, true);
+  layout_subscriber_ = nh.subscribe("surface_points", 1, &BuildingNode::onLayout, this);
+  velocity_subscriber_ = nh.subscribe("surface_velocities", 0, &BuildingNode::onVelocities, this);
+  ROS_INFO("building: %zu footprint points, mass %.0f kg", footprint_.size(), model_->totalMass());
+}
+
+void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
+  if (has_layout_ || failed_) return;
+  receiver_of_footprint_.clear();
+  for (const auto& f : footprint_) {
+    const auto it = std::find(layout->names.begin(), layout->names.end(), f.name);
+    if (it == layout->names.end()) {
+      ROS_FATAL("building: footprint point '%s' is not among the soil receivers (soil must include the footprint)",
+                f.name.c_str());
+      failed_ = true;
+      ros::shutdown();
+      return;
+    }
+    receiver_of_footprint_.push_back(static_cast<int>(it - layout->names.begin()));
+  }
+  has_layout_ = true;
+}
+
+void BuildingNode::onVelocities(const railvib::SurfaceVelocities::ConstPtr& msg) {
+  if (failed_ || ended_) return;
+  try {
+    consume(*msg);
+  } catch (const std::exception& e) {
+    ROS_FATAL("building: %s", e.what());
+    status_->error(e.what());
+    failed_ = true;
+    ros::shutdown();
+  }
+}
+
+void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
+  if (!has_layout_) throw std::runtime_error("surface velocities arrived before the receiver layout");
+  if (msg.velocity_m_s.size() != static_cast<size_t>(msg.sample_count) * msg.receiver_count * 3) {
+    throw std::runtime_error("malformed SurfaceVelocities block");
+  }
+  if (!solver_) {
+    solver_ = std::make_unique<building::BuildingResponseSolver>(*model_, msg.sample_period_s);
+    railvib::PointLayout layout;
+    layout.header.frame_id = "track";
+    for (const auto& p : solver_->responsePoints()) {
+      layout.names.push_back(p.name);
+      geometry_msgs::Point q;
+      q.x = origin_x_m_ + p.position.x();
+      q.y = origin_y_m_ + p.position.y();
+      q.z = p.position.z();
+      layout.positions.push_back(q);
+    }
+    layout_publisher_.publish(layout);
+  }
+  // Footprint velocities, one row per sample, 3 columns per footprint point (frame axes are shared).
+  Eigen::MatrixXd input(msg.sample_count, 3 * footprint_.size());
+  for (uint32_t k = 0; k < msg.sample_count; ++k) {
+    for (size_t f = 0; f < footprint_.size(); ++f) {
+      const size_t base = (static_cast<size_t>(k) * msg.receiver_count + receiver_of_footprint_[f]) * 3;
+      for (int c = 0; c < 3; ++c) input(k, static_cast<Eigen::Index>(3 * f + c)) = msg.velocity_m_s[base + c];
+    }
+  }
+  const Eigen::MatrixXd output = solver_->process(msg.first_sample_index, input);
+  railvib::BuildingResponse block;
+  block.header.frame_id = "track";
+  block.header.stamp = msg.header.stamp;
+  block.first_sample_index = msg.first_sample_index;
+  block.end_of_stream = msg.end_of_stream;
+  block.sample_period_s = msg.sample_period_s;
+  block.sample_count = msg.sample_count;
+  block.point_count = static_cast<uint32_t>(solver_->responsePoints().size());
+  block.velocity_m_s.resize(static_cast<size_t>(output.size()));
+  for (Eigen::Index k = 0; k < output.rows(); ++k) {
+    for (Eigen::Index c = 0; c < output.cols(); ++c) block.velocity_m_s[k * output.cols() + c] = output(k, c);
+  }
+  publisher_.publish(block);
+  status_->countSamples("surface_velocities in", msg.sample_count);
+  const double t = static_cast<double>(msg.first_sample_index + msg.sample_count) * msg.sample_period_s;
+  ended_ = msg.end_of_stream;
+  status_->update(t, ended_);
+  if (ended_) status_->finish(t);
+}
+
+}  // namespace railvib::ros_io

@@ -1,0 +1,48 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "railvib/io/csv.hpp"
+
+namespace fs = std::filesystem;
+using railvib::io::CsvWriter;
+using railvib::io::readCsv;
+
+TEST(Csv, RoundTripsValuesIncludingSubnormals) {
+  const fs::path path = fs::temp_directory_path() / "railvib_csv_roundtrip.csv";
+  {
+    CsvWriter w(path.string(), {"t_s", "v"});
+    w.row({0.0, -8.6e-309});
+    w.row({1e-3, 1.25});
+    w.commit();
+  }
+  const auto table = readCsv(path.string());
+  ASSERT_EQ(table.rows.size(), 2u);
+  EXPECT_EQ(table.column("v"), 1u);
+  EXPECT_DOUBLE_EQ(table.rows[0][1], -8.6e-309);
+  EXPECT_DOUBLE_EQ(table.rows[1][1], 1.25);
+  fs::remove(path);
+}
+
+TEST(Csv, UncommittedFileLeavesNothingBehind) {
+  const fs::path path = fs::temp_directory_path() / "railvib_csv_uncommitted.csv";
+  fs::remove(path);
+  {
+    CsvWriter w(path.string(), {"a"});
+    w.row({1.0});
+  }  // destroyed without commit(), as when a run throws half way
+  EXPECT_FALSE(fs::exists(path));
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path())) {
+    EXPECT_EQ(entry.path().filename().string().rfind("railvib_csv_uncommitted.csv.tmp", 0), std::string::npos);
+  }
+}
+
+TEST(Csv, RejectsMalformedRows) {
+  const fs::path path = fs::temp_directory_path() / "railvib_csv_bad.csv";
+  std::ofstream(path) << "a,b\n1,2\n3,x\n";
+  EXPECT_THROW(readCsv(path.string()), std::runtime_error);
+  std::ofstream(path) << "a,b\n1,2,3\n";
+  EXPECT_THROW(readCsv(path.string()), std::runtime_error);
+  fs::remove(path);
+}
