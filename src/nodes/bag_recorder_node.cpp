@@ -9,7 +9,11 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, private_nh("~");
   try {
     railvib::ros_io::BagRecorder recorder(nh, private_nh);
-    while (ros::ok() && !recorder.finished() && !recorder.failed()) ros::spinOnce(), ros::WallDuration(0.001).sleep();
+    while (ros::ok() && !recorder.finished() && !recorder.failed()) {
+      ros::spinOnce();
+      recorder.poll();
+      ros::WallDuration(0.001).sleep();
+    }
     recorder.close(ros::ok() ? "finished" : "interrupted");
     ros::WallDuration(0.2).sleep();  // let the latched status go out
     return recorder.failed() ? 1 : 0;

@@ -53,6 +53,7 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param<std::string>("bag_path", bag_path_, "railvib.bag");
   std::string compression;
   private_nh.param<std::string>("compression", compression, "lz4");
+  private_nh.param("linger_s", linger_s_, linger_s_);
   if (streams.empty() && topics.empty()) throw std::runtime_error("bag_recorder: no ~streams or ~topics to record");
 
   const auto parent = std::filesystem::path(bag_path_).parent_path();
@@ -83,7 +84,7 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
   if (!open_) return;
   const auto msg = event.getConstMessage();
   TopicState& state = topics_.at(topic);
-  if (state.ended) {
+  if (state.is_stream && state.ended) {
     ROS_WARN("bag_recorder: %s: message after end_of_stream ignored", topic.c_str());
     return;
   }
@@ -121,9 +122,18 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
     bool all_ended = true;
     for (const auto& kv : topics_) all_ended = all_ended && (!kv.second.is_stream || kv.second.ended);
     if (all_ended) {
-      finished_ = true;
-      close("all streams complete");
+      // Messages on other topics published just before the last end_of_stream
+      // (e.g. final metrics) may still be in flight: keep recording a little.
+      all_streams_complete_at_ = ros::WallTime::now();
+      all_streams_complete_ = true;
     }
+  }
+}
+
+void BagRecorder::poll() {
+  if (all_streams_complete_ && !finished_ && (ros::WallTime::now() - all_streams_complete_at_).toSec() >= linger_s_) {
+    finished_ = true;
+    close("all streams complete");
   }
 }
 

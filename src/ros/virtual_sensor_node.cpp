@@ -56,6 +56,8 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   if (sensors_.empty()) throw std::runtime_error("no virtual sensor configured (virtual_sensors.sensors)");
   samples_publisher_ = BlockPublisher<railvib::SensorSamples>(nh, "sensor_samples", required_subscribers);
   diagnostics_publisher_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  // Every sensor's metrics on one topic too, so a recorder needs no sensor names.
+  all_metrics_publisher_ = nh.advertise<railvib::VibrationMetrics>("sensor_metrics", 0);
 
   auto has_source = [&](const char* name) {
     return std::any_of(sensors_.begin(), sensors_.end(), [&](const Sensor& s) { return s.setup.source == name; });
@@ -159,6 +161,10 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
       s.sensor->push(frames.data(), block.sample_count, emitted);
       if (block.end_of_stream) s.sensor->flush(emitted);
       publishSamples(s, emitted, 0);
+      // Final metrics of the whole record, whatever the cadence.
+      if (block.end_of_stream && !emitted.empty() && s.published % metrics_every_ != 0) {
+        publishMetrics(s, emitted.back().time_s);
+      }
     }
     if (block.end_of_stream) source.ended = true;
     const bool all_ended =
@@ -239,6 +245,7 @@ void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
   }
   msg.verdict = level;
   s.metrics.publish(msg);
+  all_metrics_publisher_.publish(msg);
 
   diagnostic_msgs::DiagnosticArray diag;
   diag.header.stamp = msg.header.stamp;

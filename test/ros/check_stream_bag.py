@@ -5,8 +5,18 @@ Waits for the recorder's latched status, then asserts for every stream topic:
 blocks contiguous from sample 0 (first_sample_index), the last block flagged
 end_of_stream, each block's bag time equal to its header stamp (simulation
 time), and the sample count equal to duration / period + 1.
+
+With ~check_metrics, also asserts that the live metrics of every virtual
+sensor (last message of each sensor on /sensor_metrics) equal KB_Fmax and PPV
+recomputed offline by `railvib_tool metrics` from the recorded sensor_samples.
 """
+import csv
+import json
+import os
+import shutil
+import subprocess
 import sys
+import tempfile
 import time
 import unittest
 
@@ -24,18 +34,22 @@ class StreamBagTest(unittest.TestCase):
         self.bag_path = rospy.get_param("~bag")
         self.streams = rospy.get_param("~streams")
         self.duration_s = float(rospy.get_param("~expected_duration_s"))
+        self.check_metrics = rospy.get_param("~check_metrics", False)
         self.status = None
         rospy.Subscriber(rospy.get_param("~recorder_status"), String, self._on_status)
 
     def _on_status(self, msg):
         self.status = msg.data
 
-    def test_bag_streams_complete(self):
-        deadline = time.time() + 360.0
+    def wait_for_recorder(self):
+        deadline = time.time() + float(rospy.get_param("~wait_s", 360.0))
         while self.status is None and time.time() < deadline and not rospy.is_shutdown():
             time.sleep(0.1)
         self.assertIsNotNone(self.status, "recorder did not report within the time limit")
         self.assertTrue(self.status.startswith("closed"), "recorder status: " + self.status)
+
+    def test_bag_streams_complete(self):
+        self.wait_for_recorder()
         with rosbag.Bag(self.bag_path) as bag:
             for topic in self.streams:
                 blocks = [(m, t) for _, m, t in bag.read_messages(topics=[topic])]
@@ -53,6 +67,44 @@ class StreamBagTest(unittest.TestCase):
                 self.assertTrue(all(not m.end_of_stream for m, _ in blocks[:-1]), topic + ": early end_of_stream")
                 expected_samples = int(round(self.duration_s / blocks[0][0].sample_period_s)) + 1
                 self.assertEqual(expected_index, expected_samples, topic + ": sample count")
+
+        if self.check_metrics:
+            self.check_live_metrics_against_offline()
+
+    def check_live_metrics_against_offline(self):
+        with rosbag.Bag(self.bag_path) as bag:
+            blocks = sorted((m for _, m, _ in bag.read_messages(topics=["/sensor_samples"])),
+                            key=lambda m: m.first_sample_index)
+            self.assertGreater(len(blocks), 0, "no sensor_samples recorded")
+            names = list(blocks[0].sensor_names)
+            period = blocks[0].sample_period_s
+            live = {}
+            for _, m, _ in bag.read_messages(topics=["/sensor_metrics"]):
+                live[m.sensor_name] = m  # the last one is the whole record
+        tool = shutil.which("railvib_tool") or "railvib_tool"
+        workdir = tempfile.mkdtemp(prefix="railvib_metrics_")
+        for i, name in enumerate(names):
+            self.assertIn(name, live, name + ": no live metrics recorded")
+            path = os.path.join(workdir, name + ".csv")
+            with open(path, "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["t_s", "vx", "vy", "vz"])
+                k = 0
+                for b in blocks:
+                    for s in range(b.sample_count):
+                        base = (s * len(names) + i) * 3
+                        w.writerow([repr(k * period)] + [repr(x) for x in b.velocity_m_s[base:base + 3]])
+                        k += 1
+            out = subprocess.run(["rosrun", "railvib", "railvib_tool", "metrics", "--csv", path, "--column",
+                                  "vx,vy,vz"], capture_output=True, text=True)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            offline = json.loads(out.stdout)
+            kb = offline["din4150_2"]["kb_fmax"]
+            ppv = offline["din4150_3"]["vector_peak_mm_s"] * 1e-3
+            # Same core code on the same samples: equal to rounding of the CSV round trip.
+            self.assertAlmostEqual(live[name].kb_f_max, kb, delta=1e-9 + 1e-6 * abs(kb), msg=name + " KB_Fmax")
+            self.assertAlmostEqual(live[name].ppv_m_s, ppv, delta=1e-12 + 1e-6 * abs(ppv), msg=name + " PPV")
+        shutil.rmtree(workdir, ignore_errors=True)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,8 @@
 // replays at true simulated speed. Stream topics (messages that begin with
 // Header, first_sample_index, end_of_stream, sample_period_s, sample_count)
 // are checked for continuity; the bag is closed and the node exits once every
-// stream has delivered its end_of_stream block. On a gap, or on shutdown, the
+// stream has delivered its end_of_stream block (plus ~linger_s for messages
+// still in flight on other topics). On a gap, or on shutdown, the
 // bag is closed cleanly (readable) and the reason is logged.
 #pragma once
 
@@ -28,6 +29,8 @@ class BagRecorder {
   BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   ~BagRecorder();
 
+  /// Close the bag once every stream is complete and ~linger_s (default 1 s wall) has passed.
+  void poll();
   bool finished() const { return finished_; }
   bool failed() const { return failed_; }
   /// Close the bag (idempotent) and print per-topic counts.
@@ -48,6 +51,9 @@ class BagRecorder {
   bool open_ = false;
   bool finished_ = false;
   bool failed_ = false;
+  bool all_streams_complete_ = false;
+  ros::WallTime all_streams_complete_at_;
+  double linger_s_ = 1.0;
   std::map<std::string, TopicState> topics_;
   std::vector<ros::Subscriber> subscribers_;
   ros::Publisher status_publisher_;

@@ -4,7 +4,8 @@
 // and publishes, per sensor, one sample per message:
 //   sensors/<name>/imu       sensor_msgs/Imu (acceleration; REP 145 gravity option)
 //   sensors/<name>/velocity  geometry_msgs/Vector3Stamped (m/s)
-//   sensors/<name>/metrics   railvib/VibrationMetrics (metrics_rate_hz of simulated time)
+//   sensors/<name>/metrics   railvib/VibrationMetrics (metrics_rate_hz of simulated time; also on
+//                            `sensor_metrics` for all sensors, and once more at the end of the record)
 // plus /diagnostics, and the lossless block stream `sensor_samples`.
 #pragma once
 
@@ -69,6 +70,7 @@ class VirtualSensorNode {
   std::vector<std::unique_ptr<Source>> sources_;
   BlockPublisher<railvib::SensorSamples> samples_publisher_;
   ros::Publisher diagnostics_publisher_;
+  ros::Publisher all_metrics_publisher_;
   size_t block_samples_ = 100;
   uint64_t next_block_index_ = 0;
   uint64_t metrics_every_ = 100;
