@@ -29,8 +29,8 @@ double median(std::vector<double> v) {
 }
 
 int soilBench(const std::vector<std::string>& args) {
-  ArgParser p("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb");
-  p.option("case", "column | damping | throughput | lamb (or give it as first argument)", "");
+  ArgParser p("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb | reflection");
+  p.option("case", "column | damping | throughput | lamb | reflection (or give it as first argument)", "");
   p.option("nx", "throughput: elements along x", "160");
   p.option("ny", "throughput: elements along y", "80");
   p.option("nz", "throughput: elements in depth", "30");

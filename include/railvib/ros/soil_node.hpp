@@ -1,0 +1,49 @@
+// railvib ROS layer: soil node. Subscribes to SoilLoads (+ latched
+// SleeperLayout), advances the soil model (railvib::soil::SoilModel) as far
+// as the loads received allow (it may run behind them; it never drops any),
+// publishes SurfaceVelocities blocks at the receivers with their latched
+// PointLayout (`surface_points`) and decimated SurfaceSnapshot messages.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <memory>
+
+#include "railvib/SleeperLayout.h"
+#include "railvib/SoilLoads.h"
+#include "railvib/SurfaceSnapshot.h"
+#include "railvib/SurfaceVelocities.h"
+#include "railvib/ros/block_publisher.hpp"
+#include "railvib/ros/node_status.hpp"
+#include "railvib/soil/soil_model.hpp"
+
+namespace railvib::ros_io {
+
+class SoilNode {
+ public:
+  /// Private parameters: ~include_building_footprint (default true: the house's footprint points
+  /// become receivers), ~required_subscribers (surface_velocities, default 1).
+  SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  bool failed() const { return failed_; }
+
+ private:
+  void onLayout(const railvib::SleeperLayout::ConstPtr& layout);
+  void onLoads(const railvib::SoilLoads::ConstPtr& msg);
+  void consume(const railvib::SoilLoads& msg);
+  void publishOutputs(bool end_of_stream);
+
+  soil::SoilParams params_;
+  std::unique_ptr<soil::SoilModel> model_;
+  double duration_s_ = 0.0;
+  BlockPublisher<railvib::SurfaceVelocities> velocity_publisher_;
+  ros::Publisher layout_publisher_, snapshot_publisher_;
+  ros::Subscriber layout_subscriber_, loads_subscriber_;
+  std::unique_ptr<NodeStatus> status_;
+  soil::ReceiverBlock receivers_;
+  std::vector<soil::SurfaceSnapshot> snapshots_;
+  uint64_t next_velocity_index_ = 0;
+  bool failed_ = false;
+  bool ended_ = false;
+};
+
+}  // namespace railvib::ros_io

@@ -1,0 +1,143 @@
+#include "railvib/ros/soil_node.hpp"
+
+#include <algorithm>
+
+#include "railvib/PointLayout.h"
+#include "railvib/building/model.hpp"
+#include "railvib/building/params.hpp"
+#include "railvib/ros/node_config.hpp"
+
+namespace railvib::ros_io {
+
+SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
+  const Config config = loadNodeConfig(nh);
+  params_ = soil::loadSoilParams(config.root());
+  duration_s_ = config.section("simulation").number("duration_s", Range::positive());
+  bool include_footprint = true;
+  int required_subscribers = 1;
+  private_nh.param("include_building_footprint", include_footprint, include_footprint);
+  private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  if (include_footprint) {
+    // The house is driven at its foundation nodes: each becomes a soil receiver.
+    for (const auto& f : building::footprintPoints(building::loadBuildingParams(config.root()))) {
+      params_.receivers.push_back({f.name, f.x_track_m, f.y_track_m, 0.0});
+    }
+  }
+  status_ = std::make_unique<NodeStatus>(nh, "soil", duration_s_);
+  velocity_publisher_ = BlockPublisher<railvib::SurfaceVelocities>(nh, "surface_velocities", required_subscribers);
+  layout_publisher_ = nh.advertise<railvib::PointLayout>("surface_points", 1, true);
+  snapshot_publisher_ = nh.advertise<railvib::SurfaceSnapshot>("surface_snapshot", 0);
+  layout_subscriber_ = nh.subscribe("sleeper_layout", 1, &SoilNode::onLayout, this);
+  loads_subscriber_ = nh.subscribe("soil_loads", 0, &SoilNode::onLoads, this);
+}
+
+void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
+  if (model_ || failed_) return;
+  try {
+    if (std::abs(layout->length_m - params_.sleeper_length_m) > 1e-9 ||
+        std::abs(layout->width_m - params_.sleeper_width_m) > 1e-9) {
+      throw std::runtime_error("the track's sleeper footprint differs from the soil's (same config expected)");
+    }
+    model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m);
+    ROS_INFO_STREAM("soil: " << model_->summary().dump());
+    if (!model_->droppedSleepers().empty()) {
+      ROS_WARN("soil: %zu sleeper(s) outside the mesh: their loads are ignored", model_->droppedSleepers().size());
+    }
+    railvib::PointLayout points;
+    points.header.frame_id = "track";
+    for (const auto& r : model_->receivers()) {
+      points.names.push_back(r.name);
+      geometry_msgs::Point p;
+      p.x = r.x_m;
+      p.y = r.y_m;
+      p.z = r.z_m;
+      points.positions.push_back(p);
+    }
+    layout_publisher_.publish(points);
+  } catch (const std::exception& e) {
+    ROS_FATAL("soil: %s", e.what());
+    failed_ = true;
+    ros::shutdown();
+  }
+}
+
+void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
+  if (failed_ || ended_) return;
+  try {
+    consume(*msg);
+  } catch (const std::exception& e) {
+    ROS_FATAL("soil: %s", e.what());
+    status_->error(e.what());
+    failed_ = true;
+    ros::shutdown();
+  }
+}
+
+void SoilNode::consume(const railvib::SoilLoads& msg) {
+  if (!model_) throw std::runtime_error("soil loads arrived before the sleeper layout");
+  if (msg.sleeper_count != model_->sleeperCount() ||
+      msg.force_n.size() != static_cast<size_t>(msg.sample_count) * msg.sleeper_count) {
+    throw std::runtime_error("malformed SoilLoads block (sleeper count differs from the layout)");
+  }
+  model_->pushLoads(msg.first_sample_index, msg.force_n.data(), msg.sample_count);
+  status_->countSamples("soil_loads in", msg.sample_count);
+  if (msg.end_of_stream) {
+    model_->finishLoads();
+    const double t_end = static_cast<double>(msg.first_sample_index + msg.sample_count - 1) * msg.sample_period_s;
+    // Step in slices so outputs and progress flow while the soil catches up.
+    while (ros::ok() && model_->time() < t_end) {
+      model_->advance(std::min(t_end, model_->time() + 0.05));
+      publishOutputs(false);
+      status_->update(model_->time());
+    }
+    model_->advance(t_end);
+    model_->finishOutputs();
+    ended_ = true;
+    publishOutputs(true);
+    status_->finish(model_->time());
+    return;
+  }
+  model_->advance(model_->loadsAvailableUntil());
+  publishOutputs(false);
+  status_->update(model_->time());
+}
+
+void SoilNode::publishOutputs(bool end_of_stream) {
+  model_->takeReceiverSamples(receivers_);
+  const size_t frames = receivers_.frames();
+  if (frames > 0 || end_of_stream) {
+    if (frames > 0 && receivers_.first_index != next_velocity_index_) {
+      throw std::runtime_error("soil receiver frames are not contiguous");
+    }
+    railvib::SurfaceVelocities block;
+    block.header.frame_id = "track";
+    block.header.stamp = ros::Time(static_cast<double>(next_velocity_index_) / params_.receiver_rate_hz);
+    block.first_sample_index = next_velocity_index_;
+    block.end_of_stream = end_of_stream;
+    block.sample_period_s = 1.0 / params_.receiver_rate_hz;
+    block.sample_count = static_cast<uint32_t>(frames);
+    block.receiver_count = static_cast<uint32_t>(model_->receivers().size());
+    block.velocity_m_s = receivers_.velocity_m_s;
+    velocity_publisher_.publish(block);
+    next_velocity_index_ += frames;
+    status_->countSamples("surface_velocities out", frames);
+  }
+  snapshots_.clear();
+  model_->takeSnapshots(snapshots_);
+  for (const auto& s : snapshots_) {
+    railvib::SurfaceSnapshot msg;
+    msg.header.frame_id = "track";
+    msg.header.stamp = ros::Time(s.time_s);
+    msg.sample_index = s.index;
+    msg.origin_x_m = s.x0_m;
+    msg.origin_y_m = s.y0_m;
+    msg.spacing_x_m = s.dx_m;
+    msg.spacing_y_m = s.dy_m;
+    msg.nx = static_cast<uint32_t>(s.nx_nodes);
+    msg.ny = static_cast<uint32_t>(s.ny_nodes);
+    msg.vertical_velocity_m_s = s.vz_up_m_s;
+    snapshot_publisher_.publish(msg);
+  }
+}
+
+}  // namespace railvib::ros_io
