@@ -60,17 +60,22 @@ def layout(bag, topic):
 
 
 def tool():
+    """railvib_tool of the built workspace (devel space on CMAKE_PREFIX_PATH), else PATH."""
+    for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
+        candidate = os.path.join(prefix, "lib", "railvib", "railvib_tool")
+        if prefix and os.access(candidate, os.X_OK):
+            return [candidate]
     exe = shutil.which("railvib_tool")
     if exe:
         return [exe]
-    return ["rosrun", "railvib", "railvib_tool"]
+    die("railvib_tool not found: build with ./railvib setup")
 
 
 def metrics(t, v_m_s, outdir, name):
     """Run railvib_tool metrics on one sensor's 3 components; returns its JSON summary."""
     path = outdir / f"{name}_velocity.csv"
     with open(path, "w", newline="") as f:
-        w = csv.writer(f)
+        w = csv.writer(f, lineterminator="\n")
         w.writerow(["t_s", "vx", "vy", "vz"])
         for i in range(len(t)):
             w.writerow([repr(t[i])] + [repr(x) for x in v_m_s[i]])

@@ -37,6 +37,7 @@ CsvTable readCsv(const std::string& path) {
   CsvTable table;
   std::string line;
   if (!std::getline(in, line)) throw std::runtime_error(path + ": empty CSV file");
+  if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF files (spreadsheets, Python's csv)
   {
     std::stringstream ss(line);
     for (std::string cell; std::getline(ss, cell, ',');) table.columns.push_back(cell);
@@ -44,6 +45,7 @@ CsvTable readCsv(const std::string& path) {
   size_t line_no = 1;
   while (std::getline(in, line)) {
     ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     std::vector<double> row;
     std::stringstream ss(line);

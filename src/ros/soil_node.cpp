@@ -90,7 +90,9 @@ void SoilNode::consume(const railvib::SoilLoads& msg) {
       publishOutputs(false);
       status_->update(model_->time());
     }
-    model_->advance(t_end);
+    // One step past the last load sample, so the receiver output at t_end exists
+    // (outputs are emitted up to the last step time; the last load value is held).
+    model_->advance(t_end + model_->dt());
     model_->finishOutputs();
     ended_ = true;
     publishOutputs(true);

@@ -28,6 +28,15 @@ from std_msgs.msg import String
 TIME_MIN_NS = 1  # rosbag's ros::TIME_MIN: stamps at t = 0 are stored at 1 ns
 
 
+def find_tool():
+    """railvib_tool of the built workspace (devel space on CMAKE_PREFIX_PATH)."""
+    for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
+        candidate = os.path.join(prefix, "lib", "railvib", "railvib_tool")
+        if prefix and os.access(candidate, os.X_OK):
+            return candidate
+    return shutil.which("railvib_tool") or "railvib_tool"
+
+
 class StreamBagTest(unittest.TestCase):
     def setUp(self):
         rospy.init_node("check_stream_bag", anonymous=True)
@@ -81,13 +90,13 @@ class StreamBagTest(unittest.TestCase):
             live = {}
             for _, m, _ in bag.read_messages(topics=["/sensor_metrics"]):
                 live[m.sensor_name] = m  # the last one is the whole record
-        tool = shutil.which("railvib_tool") or "railvib_tool"
+        tool = find_tool()
         workdir = tempfile.mkdtemp(prefix="railvib_metrics_")
         for i, name in enumerate(names):
             self.assertIn(name, live, name + ": no live metrics recorded")
             path = os.path.join(workdir, name + ".csv")
             with open(path, "w", newline="") as f:
-                w = csv.writer(f)
+                w = csv.writer(f, lineterminator="\n")
                 w.writerow(["t_s", "vx", "vy", "vz"])
                 k = 0
                 for b in blocks:
@@ -95,8 +104,9 @@ class StreamBagTest(unittest.TestCase):
                         base = (s * len(names) + i) * 3
                         w.writerow([repr(k * period)] + [repr(x) for x in b.velocity_m_s[base:base + 3]])
                         k += 1
-            out = subprocess.run(["rosrun", "railvib", "railvib_tool", "metrics", "--csv", path, "--column",
-                                  "vx,vy,vz"], capture_output=True, text=True)
+            # Own session: roslaunch's SIGINT to the launch when the recorder ends must not reach it.
+            out = subprocess.run([tool, "metrics", "--csv", path, "--column", "vx,vy,vz"], capture_output=True,
+                                 text=True, start_new_session=True)
             self.assertEqual(out.returncode, 0, out.stderr)
             offline = json.loads(out.stdout)
             kb = offline["din4150_2"]["kb_fmax"]

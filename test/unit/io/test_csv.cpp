@@ -46,3 +46,12 @@ TEST(Csv, RejectsMalformedRows) {
   EXPECT_THROW(readCsv(path.string()), std::runtime_error);
   fs::remove(path);
 }
+
+TEST(Csv, ReadsCrLfFiles) {
+  const fs::path path = fs::temp_directory_path() / "railvib_csv_crlf.csv";
+  std::ofstream(path) << "t_s,vz\r\n0,1.5\r\n";
+  const auto table = readCsv(path.string());
+  EXPECT_EQ(table.column("vz"), 1u);
+  EXPECT_DOUBLE_EQ(table.rows.at(0).at(1), 1.5);
+  fs::remove(path);
+}
