@@ -35,6 +35,9 @@ except ImportError:  # pragma: no cover
     sys.exit("railvib report: python3-rosbag is required (./railvib setup installs it)")
 
 
+INCOMPLETE = []  # streams whose last block is not flagged end_of_stream (the run stopped early)
+
+
 def die(msg):
     sys.exit("railvib report: error: " + msg)
 
@@ -50,6 +53,8 @@ def read_stream(bag, topic):
         if b.first_sample_index != expected:
             die(f"{topic}: samples {expected}..{b.first_sample_index - 1} missing from the bag")
         expected += b.sample_count
+    if not blocks[-1].end_of_stream:
+        INCOMPLETE.append(topic)
     return blocks
 
 
@@ -211,8 +216,13 @@ def main(argv):
                 figures.append("wave_field.png")
 
     lines += ["## Figures", ""] + [f"![{f}]({f})" for f in figures]
+    if INCOMPLETE:
+        lines.insert(2, "**Incomplete run**: these streams stop before their end: " + ", ".join(INCOMPLETE) + "\n")
     (outdir / "report.md").write_text("\n".join(lines) + "\n")
     print(f"railvib report: {outdir / 'report.md'} ({len(figures)} figures)")
+    if INCOMPLETE:
+        print("railvib report: incomplete run, streams stopped early: " + ", ".join(INCOMPLETE), file=sys.stderr)
+        return 1
     return 0
 
 
