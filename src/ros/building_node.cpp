@@ -39,10 +39,17 @@ void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
     receiver_of_footprint_.push_back(static_cast<int>(it - layout->names.begin()));
   }
   has_layout_ = true;
+  auto waiting = std::move(waiting_);
+  waiting_.clear();
+  for (const auto& msg : waiting) onVelocities(msg);
 }
 
 void BuildingNode::onVelocities(const railvib::SurfaceVelocities::ConstPtr& msg) {
   if (failed_ || ended_) return;
+  if (!has_layout_) {  // the latched layout is on another topic: no order between the two
+    waiting_.push_back(msg);
+    return;
+  }
   try {
     consume(*msg);
   } catch (const std::exception& e) {

@@ -54,6 +54,9 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
       points.positions.push_back(p);
     }
     layout_publisher_.publish(points);
+    auto waiting = std::move(waiting_);
+    waiting_.clear();
+    for (const auto& msg : waiting) onLoads(msg);
   } catch (const std::exception& e) {
     ROS_FATAL("soil: %s", e.what());
     failed_ = true;
@@ -63,6 +66,10 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
 
 void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
   if (failed_ || ended_) return;
+  if (!model_) {  // the latched layout is on another topic: no order between the two
+    waiting_.push_back(msg);
+    return;
+  }
   try {
     consume(*msg);
   } catch (const std::exception& e) {

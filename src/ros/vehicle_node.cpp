@@ -34,7 +34,8 @@ VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param("block_samples", block_samples, block_samples);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   private_nh.param("tf_period_s", tf_period_s, tf_period_s);
-  if (track != "flexible" && track != "rigid") throw std::runtime_error("~track must be flexible or rigid, not " + track);
+  if (track != "flexible" && track != "rigid")
+    throw std::runtime_error("~track must be flexible or rigid, not " + track);
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
 
   model_ = std::make_unique<vehicle::VehicleModel>(vehicle::loadVehicleParams(config.root()));
@@ -99,7 +100,8 @@ void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
       tf.child_frame_id = "tram/" + bodies[static_cast<size_t>(b)].name;
       tf.transform.translation.x = front_x - pose.offset_m;
       tf.transform.translation.y = 0.0;
-      tf.transform.translation.z = displayHeight(bodies[static_cast<size_t>(b)].kind, radius) - pose.vertical_displacement_m;
+      tf.transform.translation.z =
+          displayHeight(bodies[static_cast<size_t>(b)].kind, radius) - pose.vertical_displacement_m;
       // Nose-up pitch is a negative rotation about +y (x forward, z up).
       tf.transform.rotation.y = std::sin(-0.5 * pose.pitch_rad);
       tf.transform.rotation.w = std::cos(-0.5 * pose.pitch_rad);

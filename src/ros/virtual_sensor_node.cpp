@@ -93,7 +93,13 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
     src.data_sub = nh.subscribe<railvib::BuildingResponse>(
         "building_response", 0,
         boost::function<void(const railvib::BuildingResponse::ConstPtr&)>(
-            [this, raw](const railvib::BuildingResponse::ConstPtr& m) { onBlock(*raw, asInput(*m, m->point_count)); }));
+            [this, raw](const railvib::BuildingResponse::ConstPtr& m) {
+              auto process = [this, raw, m] { onBlock(*raw, asInput(*m, m->point_count)); };
+              if (raw->has_layout)
+                process();
+              else
+                raw->waiting.push_back(process);
+            }));
   }
   ROS_INFO("virtual_sensor: %zu sensor(s) at %.0f Hz, metrics every %lu samples", sensors_.size(),
            config_.sample_rate_hz, static_cast<unsigned long>(metrics_every_));
@@ -119,6 +125,9 @@ void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& lay
     }
     s.point_index = static_cast<int>(it - layout.names.begin());
   }
+  auto waiting = std::move(source.waiting);
+  source.waiting.clear();
+  for (auto& process : waiting) process();
 }
 
 void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {

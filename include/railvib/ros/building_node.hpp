@@ -36,6 +36,7 @@ class BuildingNode {
   std::vector<building::FootprintPoint> footprint_;
   std::vector<int> receiver_of_footprint_;  // soil receiver index of each footprint point
   bool has_layout_ = false;
+  std::vector<railvib::SurfaceVelocities::ConstPtr> waiting_;  // arrived before the layout
   double origin_x_m_ = 0.0, origin_y_m_ = 0.0;
   BlockPublisher<railvib::BuildingResponse> publisher_;
   ros::Publisher layout_publisher_;

@@ -40,6 +40,7 @@ class SoilNode {
   ros::Subscriber layout_subscriber_, loads_subscriber_;
   std::unique_ptr<NodeStatus> status_;
   soil::ReceiverBlock receivers_;
+  std::vector<railvib::SoilLoads::ConstPtr> waiting_;  // arrived before the sleeper layout
   std::vector<soil::SurfaceSnapshot> snapshots_;
   uint64_t next_velocity_index_ = 0;
   bool failed_ = false;

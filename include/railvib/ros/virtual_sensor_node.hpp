@@ -11,6 +11,7 @@
 
 #include <ros/ros.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +56,8 @@ class VirtualSensorNode {
     std::vector<std::string> point_names;
     bool has_layout = false;
     bool ended = false;
+    // Blocks that arrived before the latched layout (topics are not ordered between them).
+    std::vector<std::function<void()>> waiting;
     ros::Subscriber layout_sub, data_sub;
   };
 
