@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "railvib/common/config.hpp"
+#include "railvib/common/site.hpp"
 
 namespace railvib::building {
 
@@ -22,13 +23,8 @@ struct ShellMaterial {
   double poisson() const { return young_modulus_pa / (2.0 * shear_modulus_pa) - 1.0; }
 };
 
-/// A named point where velocities are output (building frame).
-struct NamedPoint {
-  std::string name;
-  double x_m = 0.0;
-  double y_m = 0.0;
-  double z_m = 0.0;
-};
+/// A named point where velocities are output (here in the building frame).
+using NamedPoint = railvib::NamedPoint;
 
 /// A rectangular opening (window, door) cut into an exterior wall.
 struct Opening {
