@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Whole-scenario checks that need several launches (run by CTest, in the workspace environment).
+
+- determinism: two runs of the short Haren scenario (config/haren_ci.yaml) give
+  identical numbers in every stream of their bags;
+- failure handling: a required node killed mid-run stops the launch, and the
+  partial bag is closed cleanly (readable, the streams reported incomplete);
+- a truncated bag given to replay.launch is refused with a clear error, not a crash.
+
+usage: scenario_checks.py RESULTS_XML
+"""
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import xml.etree.ElementTree as ET
+
+import rosbag
+
+STREAMS = ["/contact_forces", "/soil_loads", "/surface_velocities", "/building_response", "/sensor_samples"]
+WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_scenarios_"))
+PORT = [11500 + os.getpid() % 400]
+
+
+def launch(args, timeout_s=600, kill_node=None, kill_after_s=0.0):
+    """roslaunch on a master of its own; optionally kill one node after a delay. Returns (exit code, output)."""
+    PORT[0] += 1
+    env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
+    cmd = ["roslaunch", "-p", str(PORT[0])] + args
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                            start_new_session=True)
+    if kill_node:
+        time.sleep(kill_after_s)
+        subprocess.run(["rosnode", "kill", kill_node], env=env, capture_output=True, timeout=60)
+    try:
+        out, _ = proc.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGINT)
+        out, _ = proc.communicate(timeout=60)
+        return -999, out
+    return proc.returncode, out
+
+
+def stream_blocks(bag_path, topic):
+    with rosbag.Bag(str(bag_path)) as bag:
+        return [m for _, m, _ in bag.read_messages(topics=[topic])]
+
+
+class ScenarioChecks(unittest.TestCase):
+    def test_two_runs_give_identical_bags(self):
+        bags = []
+        for name in ("a", "b"):
+            bag = WORK / f"determinism_{name}.bag"
+            code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
+            self.assertTrue(bag.exists(), f"run {name} wrote no bag (exit {code}):\n{out[-3000:]}")
+            bags.append(bag)
+        for topic in STREAMS:
+            a = sorted(stream_blocks(bags[0], topic), key=lambda m: m.first_sample_index)
+            b = sorted(stream_blocks(bags[1], topic), key=lambda m: m.first_sample_index)
+            self.assertGreater(len(a), 0, topic)
+            self.assertEqual(len(a), len(b), topic + ": block counts differ")
+            for x, y in zip(a, b):
+                x.header.seq = y.header.seq = 0  # roscpp's own counter, not data
+                self.assertEqual(x, y, f"{topic}: block at sample {x.first_sample_index} differs between runs")
+
+    def test_killed_node_stops_the_launch_and_leaves_a_readable_bag(self):
+        bag = WORK / "killed.bag"
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)], timeout_s=300,
+                           kill_node="/building", kill_after_s=1.5)
+        self.assertNotEqual(code, -999, "the launch did not stop after a required node was killed")
+        self.assertIn("building", out.split("REQUIRED process", 1)[-1][:200] if "REQUIRED process" in out else out,
+                      "the launch output should name the node that died")
+        self.assertTrue(bag.exists(), "no bag left behind")
+        with rosbag.Bag(str(bag)) as b:  # closed cleanly: opens without reindexing
+            self.assertGreater(b.get_message_count(), 0)
+        # The run was cut: some stream's last recorded block is not its end_of_stream block.
+        ended = []
+        for topic in STREAMS:
+            blocks = sorted(stream_blocks(bag, topic), key=lambda m: m.first_sample_index)
+            ended.append(bool(blocks) and blocks[-1].end_of_stream)
+        self.assertFalse(all(ended), "every stream is complete: the kill came after the end of the run")
+
+    def test_truncated_bag_is_refused_with_a_clear_error(self):
+        source = WORK / "determinism_a.bag"
+        if not source.exists():
+            code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(source)])
+        data = source.read_bytes()
+        truncated = WORK / "truncated.bag"
+        truncated.write_bytes(data[: len(data) // 2])
+        code, out = launch(["railvib", "replay.launch", "bag:=" + str(truncated)], timeout_s=120)
+        self.assertNotEqual(code, -999, "replay of a truncated bag hung")
+        self.assertRegex(out, r"bag_replay: .*(cannot read bag|unreadable|holds no message)")
+        self.assertNotIn("Segmentation fault", out)
+        self.assertNotIn("Traceback", out)
+
+
+def write_junit(result, tests_run, path):
+    suite = ET.Element("testsuite", name="scenario_checks", tests=str(tests_run),
+                       failures=str(len(result.failures)), errors=str(len(result.errors)))
+    failed = {t.id(): msg for t, msg in result.failures}
+    errored = {t.id(): msg for t, msg in result.errors}
+    for test in unittest.defaultTestLoader.loadTestsFromTestCase(ScenarioChecks):
+        case = ET.SubElement(suite, "testcase", classname="ScenarioChecks", name=test.id().split(".")[-1])
+        if test.id() in failed:
+            ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
+        if test.id() in errored:
+            ET.SubElement(case, "error", message="error").text = errored[test.id()]
+    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+
+
+if __name__ == "__main__":
+    CONFIG = str(pathlib.Path(__file__).resolve().parents[2] / "config" / "haren_ci.yaml")
+    if not pathlib.Path(CONFIG).exists():
+        CONFIG = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "config", "haren_ci.yaml")
+    suite = unittest.defaultTestLoader.loadTestsFromTestCase(ScenarioChecks)
+    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    if len(sys.argv) > 1:
+        write_junit(result, result.testsRun, sys.argv[1])
+    shutil.rmtree(WORK, ignore_errors=True)
+    sys.exit(0 if result.wasSuccessful() else 1)
