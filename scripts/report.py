@@ -218,6 +218,43 @@ def main(argv):
                 plt.close(fig)
                 figures.append("wave_field.png")
 
+        # ---- house floors vs the free field at the same place (paper Fig. 15)
+        if ss and sv and names and "bldg_response_point" in names:
+            snames = list(ss[0].sensor_names)
+            floors = [n for n in ("house_ground_floor", "house_first_floor") if n in snames]
+            if floors:
+                ns = len(snames)
+                vs = np.concatenate([np.array(b.velocity_m_s).reshape(-1, ns, 3) for b in ss])
+                ts = np.arange(len(vs)) * ss[0].sample_period_s
+                nr = sv[0].receiver_count
+                vf = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
+                tf = np.arange(len(vf)) * sv[0].sample_period_s
+                free = vf[:, names.index("bldg_response_point"), 2] * 1e3
+                fig, axes = plt.subplots(len(floors), 2, figsize=(12, 3.2 * len(floors)), squeeze=False)
+                for row, name in enumerate(floors):
+                    house = vs[:, snames.index(name), 2] * 1e3
+                    ax = axes[row][0]
+                    ax.plot(ts, house, lw=0.7, label=name)
+                    ax.plot(tf, free, "r--", lw=0.6, label="free field (no house)")
+                    ax.set_xlabel("time [s]")
+                    ax.set_ylabel("v_z [mm/s]")
+                    ax.legend(fontsize=8)
+                    ax = axes[row][1]
+                    for t_, x_, style, label in ((ts, house, "-", name), (tf, free, "r--", "free field")):
+                        fr, amp = spectrum(t_, x_)
+                        ax.plot(fr, amp, style, lw=0.7, label=label)
+                    ax.set_xlim(0, 60)
+                    ax.set_xlabel("frequency [Hz]")
+                    ax.set_ylabel("|V_z| [mm/s]")
+                    ax.legend(fontsize=8)
+                    for a in axes[row]:
+                        a.grid(alpha=0.3)
+                fig.suptitle("House response points (mid-width, 3/4 length) vs the free field there")
+                fig.tight_layout()
+                fig.savefig(outdir / "building_vs_free_field.png", dpi=110)
+                plt.close(fig)
+                figures.append("building_vs_free_field.png")
+
     lines += ["## Figures", ""] + [f"![{f}]({f})" for f in figures]
     if INCOMPLETE:
         lines.insert(2, "**Incomplete run**: these streams stop before their end: " + ", ".join(INCOMPLETE) + "\n")
