@@ -49,12 +49,14 @@ std::vector<double> parseList(const std::string& text, const std::string& option
   return out;
 }
 
-/// Config overrides of the common options (--foundation) appended to --set.
-Config loadWithFoundation(const ArgParser& args) {
-  std::vector<std::string> overrides = args.getAll("set");
-  if (args.has("foundation")) overrides.push_back("track.foundation.model=" + args.get("foundation"));
-  return Config::load(args.get("config"), overrides);
+/// The --foundation option as a config override (none when not given).
+std::vector<std::string> foundationOverride(const ArgParser& args) {
+  if (!args.has("foundation")) return {};
+  return {"track.foundation.model=" + args.get("foundation")};
 }
+
+/// Config with --set, then --foundation, applied.
+Config loadWithFoundation(const ArgParser& args) { return loadConfig(args, foundationOverride(args)); }
 
 double positiveOption(const ArgParser& args, const std::string& name) {
   const double v = args.getDouble(name);
@@ -324,11 +326,10 @@ int runTrackBench(const std::vector<std::string>& argv) {
       .option("repeats", "repeats (the median is reported)", "5");
   if (!args.parse(argv)) return 0;
   const double length = positiveOption(args, "length");
-  std::vector<std::string> overrides = args.getAll("set");
-  if (args.has("foundation")) overrides.push_back("track.foundation.model=" + args.get("foundation"));
+  std::vector<std::string> overrides = foundationOverride(args);
   overrides.push_back("track.extent.x_min_m=" + fmt(-0.5 * length));
   overrides.push_back("track.extent.x_max_m=" + fmt(0.5 * length));
-  const Config cfg = Config::load(args.get("config"), overrides);
+  const Config cfg = loadConfig(args, overrides);
   const TrackParams params = track::loadTrackParams(cfg.section("track"));
   const double dt = positiveOption(args, "dt");
   const long steps = args.getInt("steps"), repeats = args.getInt("repeats");

@@ -28,12 +28,6 @@ std::string trackChoice(const ArgParser& p) {
   return t;
 }
 
-Config loadWith(const ArgParser& p, std::vector<std::string> extra) {
-  std::vector<std::string> sets = p.getAll("set");
-  sets.insert(sets.end(), extra.begin(), extra.end());
-  return Config::load(p.get("config"), sets);
-}
-
 json modesJson(const std::vector<Mode>& modes, bool flexible) {
   json arr = json::array();
   for (const auto& m : modes) {
@@ -61,7 +55,7 @@ int vehicleModes(const std::vector<std::string>& args) {
   std::vector<std::string> extra;
   if (p.has("foundation") && !p.get("foundation").empty())
     extra.push_back("track.foundation.model=" + p.get("foundation"));
-  const Config cfg = loadWith(p, extra);
+  const Config cfg = loadConfig(p, extra);
   const auto t0 = std::chrono::steady_clock::now();
   const VehicleModel model(loadVehicleParams(cfg.root()));
   std::vector<Mode> modes;
@@ -97,7 +91,7 @@ int wheelImpedance(const std::vector<std::string>& args) {
   p.option("points", "log-spaced frequencies", "300");
   if (!p.parse(args)) return 0;
   const std::string track = trackChoice(p);
-  const Config cfg = loadWith(p, {});
+  const Config cfg = loadConfig(p);
   const VehicleModel model(loadVehicleParams(cfg.root()));
   const int wheel = static_cast<int>(p.getInt("wheel"));
   if (wheel < 0 || wheel >= model.wheelCount())
@@ -152,7 +146,7 @@ int passage(const std::vector<std::string>& args) {
   if (p.has("duration")) extra.push_back("simulation.duration_s=" + p.get("duration"));
   if (p.has("dt")) extra.push_back("simulation.time_step_s=" + p.get("dt"));
   if (p.has("foundation")) extra.push_back("track.foundation.model=" + p.get("foundation"));
-  const Config cfg = loadWith(p, extra);
+  const Config cfg = loadConfig(p, extra);
   const long every = p.getInt("csv-every");
   if (every < 1) throw ArgError("--csv-every must be >= 1");
 

@@ -18,6 +18,10 @@ void addConfigOptions(ArgParser& parser) {
   parser.option("set", "override a config value, key.path=value (repeatable)");
 }
 
-Config loadConfig(const ArgParser& parser) { return Config::load(parser.get("config"), parser.getAll("set")); }
+Config loadConfig(const ArgParser& parser, const std::vector<std::string>& extra_overrides) {
+  std::vector<std::string> overrides = parser.getAll("set");
+  overrides.insert(overrides.end(), extra_overrides.begin(), extra_overrides.end());
+  return Config::load(parser.get("config"), overrides);
+}
 
 }  // namespace railvib::tool

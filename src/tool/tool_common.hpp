@@ -16,8 +16,9 @@ std::string defaultConfigPath();
 /// Declare the options every config-driven command takes: --config FILE and --set key=value.
 void addConfigOptions(ArgParser& parser);
 
-/// Load the configuration named by --config with the --set overrides.
-Config loadConfig(const ArgParser& parser);
+/// Load the configuration named by --config with the --set overrides, then
+/// `extra_overrides` (a command's own options, e.g. --foundation) on top.
+Config loadConfig(const ArgParser& parser, const std::vector<std::string>& extra_overrides = {});
 
 /// Print a JSON summary on stdout (indented).
 inline void printJson(const nlohmann::json& summary) { std::cout << summary.dump(2) << std::endl; }
