@@ -18,7 +18,6 @@ import csv
 import json
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 
@@ -28,6 +27,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from railvib_paths import find_railvib_tool  # noqa: E402
 
 try:
     import rosbag
@@ -65,12 +66,7 @@ def layout(bag, topic):
 
 
 def tool():
-    """railvib_tool of the built workspace (devel space on CMAKE_PREFIX_PATH), else PATH."""
-    for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
-        candidate = os.path.join(prefix, "lib", "railvib", "railvib_tool")
-        if prefix and os.access(candidate, os.X_OK):
-            return [candidate]
-    exe = shutil.which("railvib_tool")
+    exe = find_railvib_tool()
     if exe:
         return [exe]
     die("railvib_tool not found: build with ./railvib setup")

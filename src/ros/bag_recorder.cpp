@@ -2,6 +2,7 @@
 
 #include <std_msgs/Header.h>
 #include <std_msgs/String.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <boost/bind/bind.hpp>
 #include <filesystem>
@@ -38,6 +39,16 @@ StreamPrefix readStreamPrefix(std::vector<uint8_t>& bytes) {
   return p;
 }
 
+// A TFMessage has no header of its own: its time is that of its newest transform.
+ros::Time latestTransformStamp(std::vector<uint8_t>& bytes) {
+  tf2_msgs::TFMessage tf;
+  ros::serialization::IStream in(bytes.data(), static_cast<uint32_t>(bytes.size()));
+  ros::serialization::deserialize(in, tf);
+  ros::Time latest;
+  for (const auto& t : tf.transforms) latest = std::max(latest, t.header.stamp);
+  return latest;
+}
+
 std_msgs::Header readHeader(std::vector<uint8_t>& bytes) {
   std_msgs::Header h;
   ros::serialization::IStream in(bytes.data(), static_cast<uint32_t>(bytes.size()));
@@ -47,9 +58,10 @@ std_msgs::Header readHeader(std::vector<uint8_t>& bytes) {
 }  // namespace
 
 BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
-  std::vector<std::string> streams, topics;
+  std::vector<std::string> streams, topics, tf_topics;
   private_nh.getParam("streams", streams);
   private_nh.getParam("topics", topics);
+  private_nh.getParam("tf_topics", tf_topics);
   private_nh.param<std::string>("bag_path", bag_path_, "railvib.bag");
   std::string compression;
   private_nh.param<std::string>("compression", compression, "lz4");
@@ -63,19 +75,23 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   open_ = true;
 
   status_publisher_ = private_nh.advertise<std_msgs::String>("status", 1, true);
-  auto subscribe = [&](const std::string& name, bool is_stream) {
+  enum class Kind { Stream, Stamped, Tf };
+  auto subscribe = [&](const std::string& name, Kind kind) {
     const std::string resolved = nh.resolveName(name);
     TopicState& state = topics_[resolved];
+    const bool is_stream = kind == Kind::Stream;
     state.is_stream = is_stream;
+    state.is_tf = kind == Kind::Tf;
     if (is_stream) state.tracker = std::make_unique<SampleIndexTracker>(resolved);
     boost::function<void(const ros::MessageEvent<topic_tools::ShapeShifter const>&)> cb =
         [this, resolved](const ros::MessageEvent<topic_tools::ShapeShifter const>& e) { onMessage(resolved, e); };
     subscribers_.push_back(nh.subscribe<topic_tools::ShapeShifter>(resolved, 0, cb));
   };
-  for (const auto& s : streams) subscribe(s, true);
-  for (const auto& t : topics) subscribe(t, false);
-  ROS_INFO("bag_recorder: recording %zu stream(s) and %zu topic(s) to %s", streams.size(), topics.size(),
-           bag_path_.c_str());
+  for (const auto& s : streams) subscribe(s, Kind::Stream);
+  for (const auto& t : topics) subscribe(t, Kind::Stamped);
+  for (const auto& t : tf_topics) subscribe(t, Kind::Tf);
+  ROS_INFO("bag_recorder: recording %zu stream(s), %zu topic(s) and %zu tf topic(s) to %s", streams.size(),
+           topics.size(), tf_topics.size(), bag_path_.c_str());
 }
 
 BagRecorder::~BagRecorder() { close("shutdown"); }
@@ -97,6 +113,8 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
       state.tracker->accept(p.first_sample_index, p.sample_count);
       stamp = p.header.stamp;
       ends_stream = p.end_of_stream;
+    } else if (state.is_tf) {
+      stamp = latestTransformStamp(bytes);
     } else {
       stamp = readHeader(bytes).stamp;
     }

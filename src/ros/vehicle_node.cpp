@@ -5,24 +5,10 @@
 #include <cmath>
 
 #include "railvib/ros/node_config.hpp"
+#include "railvib/ros/tram_display.hpp"
 #include "railvib/track/track_model.hpp"
 
 namespace railvib::ros_io {
-
-namespace {
-// Display heights of the body reference points above the rail head (m), for
-// RViz only: the model's displacements are relative to its unloaded reference.
-double displayHeight(vehicle::BodyKind kind, double wheel_radius_m) {
-  switch (kind) {
-    case vehicle::BodyKind::Carbody:
-      return 1.9;
-    case vehicle::BodyKind::Bogie:
-      return 0.6;
-    default:
-      return wheel_radius_m;
-  }
-}
-}  // namespace
 
 VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
@@ -34,6 +20,10 @@ VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param("block_samples", block_samples, block_samples);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   private_nh.param("tf_period_s", tf_period_s, tf_period_s);
+  int tf_required_subscribers = 0;
+  private_nh.param("tf_required_subscribers", tf_required_subscribers, tf_required_subscribers);
+  // A tf2_ros::TransformBroadcaster would drop the first poses before the recorder connects.
+  tf_publisher_ = BlockPublisher<tf2_msgs::TFMessage>(nh, "/tf", tf_required_subscribers);
   if (track != "flexible" && track != "rigid")
     throw std::runtime_error("~track must be flexible or rigid, not " + track);
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
@@ -86,7 +76,8 @@ void VehicleNode::run() {
 void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
   const auto& bodies = model_->bodies();
   const double radius = model_->params().motor_radius_m;
-  std::vector<geometry_msgs::TransformStamped> transforms;
+  tf2_msgs::TFMessage poses;
+  auto& transforms = poses.transforms;
   for (size_t k = 0; k < block.sampleCount(); ++k) {
     const uint64_t index = block.first_index + k;
     if (index % tf_every_ != 0) continue;
@@ -101,14 +92,14 @@ void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
       tf.transform.translation.x = front_x - pose.offset_m;
       tf.transform.translation.y = 0.0;
       tf.transform.translation.z =
-          displayHeight(bodies[static_cast<size_t>(b)].kind, radius) - pose.vertical_displacement_m;
+          tramDisplayHeight(bodies[static_cast<size_t>(b)].kind, radius) - pose.vertical_displacement_m;
       // Nose-up pitch is a negative rotation about +y (x forward, z up).
       tf.transform.rotation.y = std::sin(-0.5 * pose.pitch_rad);
       tf.transform.rotation.w = std::cos(-0.5 * pose.pitch_rad);
       transforms.push_back(tf);
     }
   }
-  if (!transforms.empty()) tf_broadcaster_.sendTransform(transforms);
+  if (!transforms.empty()) tf_publisher_.publish(poses);
 }
 
 }  // namespace railvib::ros_io

@@ -6,6 +6,10 @@ blocks contiguous from sample 0 (first_sample_index), the last block flagged
 end_of_stream, each block's bag time equal to its header stamp (simulation
 time), and the sample count equal to duration / period + 1.
 
+With ~tf_pose_period_s, also asserts that /tf holds every tram pose from t = 0
+to the end (one message per period, bag time = the poses' stamp) and that
+/tf_static holds the ~static_frames.
+
 With ~check_metrics, also asserts that the live metrics of every virtual
 sensor (last message of each sensor on /sensor_metrics) equal KB_Fmax and PPV
 recomputed offline by `railvib_tool metrics` from the recorded sensor_samples.
@@ -28,13 +32,8 @@ from std_msgs.msg import String
 TIME_MIN_NS = 1  # rosbag's ros::TIME_MIN: stamps at t = 0 are stored at 1 ns
 
 
-def find_tool():
-    """railvib_tool of the built workspace (devel space on CMAKE_PREFIX_PATH)."""
-    for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
-        candidate = os.path.join(prefix, "lib", "railvib", "railvib_tool")
-        if prefix and os.access(candidate, os.X_OK):
-            return candidate
-    return shutil.which("railvib_tool") or "railvib_tool"
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "scripts"))
+from railvib_paths import find_railvib_tool  # noqa: E402
 
 
 class StreamBagTest(unittest.TestCase):
@@ -79,6 +78,28 @@ class StreamBagTest(unittest.TestCase):
 
         if self.check_metrics:
             self.check_live_metrics_against_offline()
+        if rospy.has_param("~tf_pose_period_s"):
+            self.check_tf_recorded(float(rospy.get_param("~tf_pose_period_s")), rospy.get_param("~static_frames"))
+
+    def check_tf_recorded(self, period_s, static_frames):
+        with rosbag.Bag(self.bag_path) as bag:
+            stamps = []
+            for _, m, t in bag.read_messages(topics=["/tf"]):
+                frames = {tr.child_frame_id for tr in m.transforms}
+                self.assertIn("tram/front_carbody", frames)
+                stamp = max(tr.header.stamp for tr in m.transforms)
+                self.assertTrue(all(tr.header.stamp == stamp for tr in m.transforms), "one pose time per message")
+                self.assertEqual(t.to_nsec(), max(stamp.to_nsec(), TIME_MIN_NS), "/tf: bag time differs from stamp")
+                stamps.append(stamp.to_sec())
+            expected = int(round(self.duration_s / period_s)) + 1
+            self.assertEqual(len(stamps), expected, "/tf: tram pose count")
+            for k, s in enumerate(sorted(stamps)):
+                self.assertAlmostEqual(s, k * period_s, delta=1e-6, msg="/tf: pose times")
+            recorded_static = set()
+            for _, m, _ in bag.read_messages(topics=["/tf_static"]):
+                recorded_static |= {tr.child_frame_id for tr in m.transforms}
+            for frame in static_frames:
+                self.assertIn(frame, recorded_static, "/tf_static")
 
     def check_live_metrics_against_offline(self):
         with rosbag.Bag(self.bag_path) as bag:
@@ -90,7 +111,8 @@ class StreamBagTest(unittest.TestCase):
             live = {}
             for _, m, _ in bag.read_messages(topics=["/sensor_metrics"]):
                 live[m.sensor_name] = m  # the last one is the whole record
-        tool = find_tool()
+        tool = find_railvib_tool()
+        self.assertIsNotNone(tool, "railvib_tool not found")
         workdir = tempfile.mkdtemp(prefix="railvib_metrics_")
         for i, name in enumerate(names):
             self.assertIn(name, live, name + ": no live metrics recorded")

@@ -2,7 +2,9 @@
 //
 // Records the given topics into one bag with LZ4 compression, each message at
 // the time of its header stamp (simulation time), so `rosbag play --clock`
-// replays at true simulated speed. Stream topics (messages that begin with
+// replays at true simulated speed. tf topics (/tf, /tf_static) are recorded
+// at the latest stamp of their transforms; static frames (stamp 0) go to the
+// start of the bag. Stream topics (messages that begin with
 // Header, first_sample_index, end_of_stream, sample_period_s, sample_count)
 // are checked for continuity; the bag is closed and the node exits once every
 // stream has delivered its end_of_stream block (plus ~linger_s for messages
@@ -25,7 +27,8 @@ namespace railvib::ros_io {
 
 class BagRecorder {
  public:
-  /// Parameters (private): ~bag_path, ~streams (list), ~topics (list, header-stamped), ~compression (lz4|none).
+  /// Parameters (private): ~bag_path, ~streams (list), ~topics (list, header-stamped),
+  /// ~tf_topics (list of tf2_msgs/TFMessage topics), ~compression (lz4|none), ~linger_s.
   BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   ~BagRecorder();
 
@@ -39,6 +42,7 @@ class BagRecorder {
  private:
   struct TopicState {
     bool is_stream = false;
+    bool is_tf = false;
     std::unique_ptr<SampleIndexTracker> tracker;
     bool ended = false;
     uint64_t messages = 0;

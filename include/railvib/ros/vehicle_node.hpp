@@ -5,7 +5,7 @@
 #pragma once
 
 #include <ros/ros.h>
-#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <memory>
 
@@ -19,7 +19,9 @@ namespace railvib::ros_io {
 class VehicleNode {
  public:
   /// Private parameters: ~track (flexible|rigid, default flexible), ~block_samples (default 1000),
-  /// ~required_subscribers (default 1), ~tf_period_s (simulated time between tf poses, default 0.01).
+  /// ~required_subscribers (default 1), ~tf_period_s (simulated time between tf poses, default 0.01),
+  /// ~tf_required_subscribers (subscribers of /tf to wait for before the first pose, e.g. the
+  /// recorder, default 0: then a late listener misses the first poses).
   VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   /// Run the whole passage (returns when done or on shutdown).
   void run();
@@ -31,7 +33,7 @@ class VehicleNode {
   std::unique_ptr<vehicle::Unevenness> unevenness_;
   std::unique_ptr<vehicle::VehiclePassage> passage_;
   BlockPublisher<railvib::ContactForces> publisher_;
-  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  BlockPublisher<tf2_msgs::TFMessage> tf_publisher_;
   std::unique_ptr<NodeStatus> status_;
   size_t block_samples_ = 1000;
   uint64_t tf_every_ = 1000;
