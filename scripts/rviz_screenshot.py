@@ -107,12 +107,13 @@ def main():
                 if time.time() > deadline or launch.poll() is not None:
                     die(f"replay ended or timed out before t = {t} s (log: {log.name})")
                 time.sleep(0.005)
+            grabbed_at = clock["t"]
             dump = subprocess.run(["xwd", "-root", "-silent", "-display", args.display], capture_output=True,
                                   check=True).stdout
             path = args.out if len(times) == 1 else args.out.replace(".png", f"_{t:.3f}s.png")
             matplotlib.image.imsave(path, xwd_to_rgb(dump))
             outputs.append(path)
-            print(f"rviz_screenshot: {path} at t = {clock['t']:.3f} s")
+            print(f"rviz_screenshot: {path} at t = {grabbed_at:.3f} s")
         return 0
     finally:
         if launch and launch.poll() is None:
