@@ -25,7 +25,7 @@ BuildingNode::BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 }
 
 void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
-  if (has_layout_ || failed_) return;
+  if (gate_.isOpen() || failed_) return;
   receiver_of_footprint_.clear();
   for (const auto& f : footprint_) {
     const auto it = std::find(layout->names.begin(), layout->names.end(), f.name);
@@ -38,30 +38,25 @@ void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
     }
     receiver_of_footprint_.push_back(static_cast<int>(it - layout->names.begin()));
   }
-  has_layout_ = true;
-  auto waiting = std::move(waiting_);
-  waiting_.clear();
-  for (const auto& msg : waiting) onVelocities(msg);
+  gate_.open();
 }
 
 void BuildingNode::onVelocities(const railvib::SurfaceVelocities::ConstPtr& msg) {
-  if (failed_ || ended_) return;
-  if (!has_layout_) {  // the latched layout is on another topic: no order between the two
-    waiting_.push_back(msg);
-    return;
-  }
-  try {
-    consume(*msg);
-  } catch (const std::exception& e) {
-    ROS_FATAL("building: %s", e.what());
-    status_->error(e.what());
-    failed_ = true;
-    ros::shutdown();
-  }
+  gate_.run([this, msg] {
+    if (failed_ || ended_) return;
+    try {
+      consume(*msg);
+    } catch (const std::exception& e) {
+      ROS_FATAL("building: %s", e.what());
+      status_->error(e.what());
+      failed_ = true;
+      ros::shutdown();
+    }
+  });
 }
 
 void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
-  if (!has_layout_) throw std::runtime_error("surface velocities arrived before the receiver layout");
+  if (!gate_.isOpen()) throw std::runtime_error("surface velocities arrived before the receiver layout");
   if (msg.velocity_m_s.size() != static_cast<size_t>(msg.sample_count) * msg.receiver_count * 3) {
     throw std::runtime_error("malformed SurfaceVelocities block");
   }

@@ -54,9 +54,7 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
       points.positions.push_back(p);
     }
     layout_publisher_.publish(points);
-    auto waiting = std::move(waiting_);
-    waiting_.clear();
-    for (const auto& msg : waiting) onLoads(msg);
+    gate_.open();
   } catch (const std::exception& e) {
     ROS_FATAL("soil: %s", e.what());
     failed_ = true;
@@ -65,19 +63,17 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
 }
 
 void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
-  if (failed_ || ended_) return;
-  if (!model_) {  // the latched layout is on another topic: no order between the two
-    waiting_.push_back(msg);
-    return;
-  }
-  try {
-    consume(*msg);
-  } catch (const std::exception& e) {
-    ROS_FATAL("soil: %s", e.what());
-    status_->error(e.what());
-    failed_ = true;
-    ros::shutdown();
-  }
+  gate_.run([this, msg] {
+    if (failed_ || ended_) return;
+    try {
+      consume(*msg);
+    } catch (const std::exception& e) {
+      ROS_FATAL("soil: %s", e.what());
+      status_->error(e.what());
+      failed_ = true;
+      ros::shutdown();
+    }
+  });
 }
 
 void SoilNode::consume(const railvib::SoilLoads& msg) {
@@ -92,15 +88,11 @@ void SoilNode::consume(const railvib::SoilLoads& msg) {
     model_->finishLoads();
     const double t_end = static_cast<double>(msg.first_sample_index + msg.sample_count - 1) * msg.sample_period_s;
     // Step in slices so outputs and progress flow while the soil catches up.
-    while (ros::ok() && model_->time() < t_end) {
-      model_->advance(std::min(t_end, model_->time() + 0.05));
+    model_->finishRun(t_end, 0.05, [this] {
       publishOutputs(false);
       status_->update(model_->time());
-    }
-    // One step past the last load sample, so the receiver output at t_end exists
-    // (outputs are emitted up to the last step time; the last load value is held).
-    model_->advance(t_end + model_->dt());
-    model_->finishOutputs();
+      return ros::ok();
+    });
     ended_ = true;
     publishOutputs(true);
     status_->finish(model_->time());

@@ -75,28 +75,23 @@ void TrackNode::consume(const railvib::ContactForces& block) {
 
 void TrackNode::publishPending(bool end_of_stream) {
   const size_t sleepers = static_cast<size_t>(stream_->sleeperCount());
-  size_t available = pending_.size() / sleepers;
-  size_t offset = 0;
-  while (available - offset >= block_samples_ || (end_of_stream && offset <= available)) {
-    const size_t count = std::min(block_samples_, available - offset);
-    const bool last = end_of_stream && offset + count == available;
-    railvib::SoilLoads block;
-    block.header.frame_id = "track";
-    block.header.stamp = ros::Time(static_cast<double>(next_load_index_) * stream_->loadSamplePeriod());
-    block.first_sample_index = next_load_index_;
-    block.end_of_stream = last;
-    block.sample_period_s = stream_->loadSamplePeriod();
-    block.sample_count = static_cast<uint32_t>(count);
-    block.sleeper_count = static_cast<uint32_t>(sleepers);
-    block.force_n.assign(pending_.begin() + static_cast<long>(offset * sleepers),
-                         pending_.begin() + static_cast<long>((offset + count) * sleepers));
-    loads_publisher_.publish(block);
-    status_->countSamples("soil_loads out", count);
-    next_load_index_ += count;
-    offset += count;
-    if (last) break;
-  }
-  pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(offset * sleepers));
+  const size_t consumed = splitIntoBlocks(
+      pending_.size() / sleepers, block_samples_, end_of_stream, [&](size_t offset, size_t count, bool last) {
+        railvib::SoilLoads block;
+        block.header.frame_id = "track";
+        block.header.stamp = ros::Time(static_cast<double>(next_load_index_) * stream_->loadSamplePeriod());
+        block.first_sample_index = next_load_index_;
+        block.end_of_stream = last;
+        block.sample_period_s = stream_->loadSamplePeriod();
+        block.sample_count = static_cast<uint32_t>(count);
+        block.sleeper_count = static_cast<uint32_t>(sleepers);
+        block.force_n.assign(pending_.begin() + static_cast<long>(offset * sleepers),
+                             pending_.begin() + static_cast<long>((offset + count) * sleepers));
+        loads_publisher_.publish(block);
+        status_->countSamples("soil_loads out", count);
+        next_load_index_ += count;
+      });
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(consumed * sleepers));
 }
 
 }  // namespace railvib::ros_io

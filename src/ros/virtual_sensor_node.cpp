@@ -76,12 +76,12 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
         "surface_points", 1,
         boost::function<void(const railvib::PointLayout::ConstPtr&)>(
             [this, raw](const railvib::PointLayout::ConstPtr& m) { onLayout(*raw, *m); }));
-    src.data_sub =
-        nh.subscribe<railvib::SurfaceVelocities>("surface_velocities", 0,
-                                                 boost::function<void(const railvib::SurfaceVelocities::ConstPtr&)>(
-                                                     [this, raw](const railvib::SurfaceVelocities::ConstPtr& m) {
-                                                       onBlock(*raw, asInput(*m, m->receiver_count));
-                                                     }));
+    src.data_sub = nh.subscribe<railvib::SurfaceVelocities>(
+        "surface_velocities", 0,
+        boost::function<void(const railvib::SurfaceVelocities::ConstPtr&)>(
+            [this, raw](const railvib::SurfaceVelocities::ConstPtr& m) {
+              raw->gate.run([this, raw, m] { onBlock(*raw, asInput(*m, m->receiver_count)); });
+            }));
   }
   if (has_source("building")) {
     Source& src = add_source("building");
@@ -94,11 +94,7 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
         "building_response", 0,
         boost::function<void(const railvib::BuildingResponse::ConstPtr&)>(
             [this, raw](const railvib::BuildingResponse::ConstPtr& m) {
-              auto process = [this, raw, m] { onBlock(*raw, asInput(*m, m->point_count)); };
-              if (raw->has_layout)
-                process();
-              else
-                raw->waiting.push_back(process);
+              raw->gate.run([this, raw, m] { onBlock(*raw, asInput(*m, m->point_count)); });
             }));
   }
   ROS_INFO("virtual_sensor: %zu sensor(s) at %.0f Hz, metrics every %lu samples", sensors_.size(),
@@ -112,9 +108,8 @@ void VirtualSensorNode::fail(const std::string& what) {
 }
 
 void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& layout) {
-  if (source.has_layout) return;
+  if (source.gate.isOpen()) return;
   source.point_names = layout.names;
-  source.has_layout = true;
   for (auto& s : sensors_) {
     if (s.setup.source != source.name) continue;
     const auto it = std::find(layout.names.begin(), layout.names.end(), s.setup.point);
@@ -125,9 +120,7 @@ void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& lay
     }
     s.point_index = static_cast<int>(it - layout.names.begin());
   }
-  auto waiting = std::move(source.waiting);
-  source.waiting.clear();
-  for (auto& process : waiting) process();
+  source.gate.open();
 }
 
 void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
@@ -147,7 +140,7 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
   }
   if (finished_) return;
   try {
-    if (!source.has_layout) throw std::runtime_error(source.name + " data arrived before its point layout");
+    if (!source.gate.isOpen()) throw std::runtime_error(source.name + " data arrived before its point layout");
     source.tracker->accept(block.first_sample_index, block.sample_count);
     const size_t expected = static_cast<size_t>(block.sample_count) * block.point_count * 3;
     if (block.velocity_m_s->size() != expected) throw std::runtime_error(source.name + ": malformed block");
@@ -283,32 +276,28 @@ void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
 void VirtualSensorNode::publishBlocks(bool end_of_stream) {
   size_t ready = sensors_.front().pending.size();
   for (const auto& s : sensors_) ready = std::min(ready, s.pending.size());
-  size_t offset = 0;
-  while (ready - offset >= block_samples_ || (end_of_stream && offset <= ready)) {
-    const size_t count = std::min(block_samples_, ready - offset);
-    const bool last = end_of_stream && offset + count == ready;
-    railvib::SensorSamples block;
-    block.header.stamp = ros::Time(static_cast<double>(next_block_index_) / config_.sample_rate_hz);
-    block.header.frame_id = "track";
-    block.first_sample_index = next_block_index_;
-    block.end_of_stream = last;
-    block.sample_period_s = 1.0 / config_.sample_rate_hz;
-    block.sample_count = static_cast<uint32_t>(count);
-    block.sensor_count = static_cast<uint32_t>(sensors_.size());
-    for (const auto& s : sensors_) block.sensor_names.push_back(s.setup.spec.name);
-    for (size_t k = offset; k < offset + count; ++k) {
-      for (const auto& s : sensors_) {
-        block.velocity_m_s.insert(block.velocity_m_s.end(), s.pending[k].velocity_m_s, s.pending[k].velocity_m_s + 3);
-        block.acceleration_m_s2.insert(block.acceleration_m_s2.end(), s.pending[k].acceleration_m_s2,
-                                       s.pending[k].acceleration_m_s2 + 3);
-      }
-    }
-    samples_publisher_.publish(block);
-    next_block_index_ += count;
-    offset += count;
-    if (last) break;
-  }
-  for (auto& s : sensors_) s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<long>(offset));
+  const size_t consumed =
+      splitIntoBlocks(ready, block_samples_, end_of_stream, [&](size_t offset, size_t count, bool last) {
+        railvib::SensorSamples block;
+        block.header.stamp = ros::Time(static_cast<double>(next_block_index_) / config_.sample_rate_hz);
+        block.header.frame_id = "track";
+        block.first_sample_index = next_block_index_;
+        block.end_of_stream = last;
+        block.sample_period_s = 1.0 / config_.sample_rate_hz;
+        block.sample_count = static_cast<uint32_t>(count);
+        block.sensor_count = static_cast<uint32_t>(sensors_.size());
+        for (const auto& s : sensors_) block.sensor_names.push_back(s.setup.spec.name);
+        for (size_t k = offset; k < offset + count; ++k) {
+          for (const auto& s : sensors_) {
+            const signal::SensorSample& x = s.pending[k];
+            block.velocity_m_s.insert(block.velocity_m_s.end(), x.velocity_m_s, x.velocity_m_s + 3);
+            block.acceleration_m_s2.insert(block.acceleration_m_s2.end(), x.acceleration_m_s2, x.acceleration_m_s2 + 3);
+          }
+        }
+        samples_publisher_.publish(block);
+        next_block_index_ += count;
+      });
+  for (auto& s : sensors_) s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<long>(consumed));
 }
 
 }  // namespace railvib::ros_io

@@ -224,6 +224,22 @@ void SoilModel::finishOutputs() {
   if (rec_decimator_ && !rec_decimator_->flushed()) rec_decimator_->flush(rec_out_);
 }
 
+uint64_t SoilModel::finishRun(double t_end_s, double slice_s, const std::function<bool()>& after_slice) {
+  if (!loads_->finished()) throw std::logic_error("SoilModel::finishRun before finishLoads");
+  if (!(slice_s > 0.0)) throw std::invalid_argument("SoilModel::finishRun: slice_s must be > 0");
+  uint64_t steps = 0;
+  while (time() < t_end_s) {
+    // advance() stops within 1e-9 dt of its target: no step taken means t_end is reached.
+    const uint64_t n = advance(std::min(t_end_s, time() + slice_s));
+    if (n == 0) break;
+    steps += n;
+    if (after_slice && !after_slice()) return steps;
+  }
+  steps += advance(t_end_s + dt());
+  finishOutputs();
+  return steps;
+}
+
 void SoilModel::takeReceiverSamples(ReceiverBlock& out) {
   out.first_index = rec_out_first_;
   out.rate_hz = params_.receiver_rate_hz;

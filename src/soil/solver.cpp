@@ -108,6 +108,9 @@ struct ImplT : Solver::Impl {
     beta = static_cast<Real>(o.rayleigh_beta_s);
     e_filter = static_cast<Real>(std::exp(-2.0 * M_PI * o.damping_cutoff_hz * dt_s));
     threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    // The depth slabs, hence the order of the float sums at the slab planes, follow the team size:
+    // a runtime that shrinks teams under load (OMP_DYNAMIC) would make runs differ by round-off.
+    omp_set_dynamic(0);
     for (int d = 0; d < 3; ++d) {
       u[d].assign(n, 0);
       v[d].assign(n, 0);

@@ -279,19 +279,18 @@ int soilRun(const std::vector<std::string>& args) {
   const double chunk = 0.05;
   double next_report = 0.0;
   const auto t_step0 = std::chrono::steady_clock::now();
-  while (model.time() < duration - 1e-12) {
-    model.advance(std::min(duration, model.time() + chunk));
+  model.finishRun(duration, chunk, [&] {
     drain();
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_step0).count();
     if (el >= next_report || model.time() >= duration - 1e-12) {
-      const double frac = model.time() / duration;
+      const double frac = std::min(1.0, model.time() / duration);
       std::cerr << "soil: t = " << model.time() << " / " << duration << " s (" << std::round(1000 * frac) / 10
                 << " %), elapsed " << std::round(el) << " s, ETA " << std::round(el * (1 - frac) / std::max(frac, 1e-9))
                 << " s\n";
       next_report = el + 10.0;
     }
-  }
-  model.finishOutputs();
+    return true;
+  });
   drain();
   rcsv.commit();
   writeSnapshots(dir + "/surface_vz.snap", snaps);

@@ -77,7 +77,8 @@ VehicleParams loadVehicleParams(const ConfigNode& root) {
   p.hertz_constant_n_m1_5 = v.section("contact").number("hertz_constant_n_m1_5", pos);
 
   const ConfigNode half = v.section("half_vehicle");
-  p.body_share_per_rail = half.number("body_share_per_rail", Range::open(0.0, 1.0));
+  // 1 = the whole vehicle on one rail (a sensitivity study), 0.5 = the symmetric half.
+  p.body_share_per_rail = half.number("body_share_per_rail", Range{0.0, 1.0, true, false});
 
   const ConfigNode geo = v.section("geometry");
   p.carbody_com_offsets_m = geo.numbers("carbody_com_offsets_m", Range::any(), 3, 3);

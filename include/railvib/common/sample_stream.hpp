@@ -5,6 +5,8 @@
 // one ended, so a lost or reordered block is detected, never silently skipped.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -41,5 +43,24 @@ class SampleIndexTracker {
   uint64_t next_;
   uint64_t blocks_ = 0;
 };
+
+/// Cut `available` pending samples into stream blocks of at most `block_samples`.
+/// Only full blocks go out while the stream runs; at its end the remainder goes
+/// too, and the last block is flagged (an empty one if nothing is left, so the
+/// end is always signalled). Calls emit(offset, count, last) per block and
+/// returns the number of samples consumed (to drop from the pending buffer).
+template <class Emit>
+size_t splitIntoBlocks(size_t available, size_t block_samples, bool end_of_stream, Emit&& emit) {
+  if (block_samples == 0) throw std::invalid_argument("splitIntoBlocks: block_samples must be > 0");
+  size_t offset = 0;
+  while (available - offset >= block_samples || (end_of_stream && offset <= available)) {
+    const size_t count = std::min(block_samples, available - offset);
+    const bool last = end_of_stream && offset + count == available;
+    emit(offset, count, last);
+    offset += count;
+    if (last) break;
+  }
+  return offset;
+}
 
 }  // namespace railvib

@@ -16,6 +16,7 @@
 #include "railvib/building/model.hpp"
 #include "railvib/building/response.hpp"
 #include "railvib/ros/block_publisher.hpp"
+#include "railvib/ros/layout_gate.hpp"
 #include "railvib/ros/node_status.hpp"
 
 namespace railvib::ros_io {
@@ -35,8 +36,7 @@ class BuildingNode {
   std::unique_ptr<building::BuildingResponseSolver> solver_;
   std::vector<building::FootprintPoint> footprint_;
   std::vector<int> receiver_of_footprint_;  // soil receiver index of each footprint point
-  bool has_layout_ = false;
-  std::vector<railvib::SurfaceVelocities::ConstPtr> waiting_;  // arrived before the layout
+  LayoutGate gate_;                         // velocities wait for the receiver layout
   double origin_x_m_ = 0.0, origin_y_m_ = 0.0;
   BlockPublisher<railvib::BuildingResponse> publisher_;
   ros::Publisher layout_publisher_;

@@ -14,6 +14,7 @@
 #include "railvib/SurfaceSnapshot.h"
 #include "railvib/SurfaceVelocities.h"
 #include "railvib/ros/block_publisher.hpp"
+#include "railvib/ros/layout_gate.hpp"
 #include "railvib/ros/node_status.hpp"
 #include "railvib/soil/soil_model.hpp"
 
@@ -40,7 +41,7 @@ class SoilNode {
   ros::Subscriber layout_subscriber_, loads_subscriber_;
   std::unique_ptr<NodeStatus> status_;
   soil::ReceiverBlock receivers_;
-  std::vector<railvib::SoilLoads::ConstPtr> waiting_;  // arrived before the sleeper layout
+  LayoutGate gate_;  // loads wait for the sleeper layout
   std::vector<soil::SurfaceSnapshot> snapshots_;
   uint64_t next_velocity_index_ = 0;
   bool failed_ = false;

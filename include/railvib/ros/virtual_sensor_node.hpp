@@ -20,6 +20,7 @@
 #include "railvib/SensorSamples.h"
 #include "railvib/common/sample_stream.hpp"
 #include "railvib/ros/block_publisher.hpp"
+#include "railvib/ros/layout_gate.hpp"
 #include "railvib/signal/virtual_sensor.hpp"
 
 namespace railvib::ros_io {
@@ -54,10 +55,8 @@ class VirtualSensorNode {
     std::string name;
     std::unique_ptr<SampleIndexTracker> tracker;
     std::vector<std::string> point_names;
-    bool has_layout = false;
     bool ended = false;
-    // Blocks that arrived before the latched layout (topics are not ordered between them).
-    std::vector<std::function<void()>> waiting;
+    LayoutGate gate;  // blocks wait for the latched point layout
     ros::Subscriber layout_sub, data_sub;
   };
 

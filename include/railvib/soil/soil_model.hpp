@@ -6,7 +6,7 @@
 //   model.advance(t_target);                          // steps as far as the loads allow
 //   model.takeReceiverSamples(block);                 // new receiver frames (filtered, receiver rate)
 //   model.takeSnapshots(snaps);                       // new surface snapshots (snapshot rate)
-//   ... model.finishLoads(); model.advance(t_end); model.finishOutputs(); take...()
+//   ... model.finishLoads(); model.finishRun(t_end, slice); take...()
 //
 // Load sample n stands for time n / load_rate (n = 0 at t = 0); blocks must be
 // contiguous (SampleIndexTracker, StreamGapError otherwise). With
@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -83,6 +84,12 @@ class SoilModel {
   uint64_t advance(double t_target_s);
   /// End of run: flush the receiver decimator (emits the frames up to the current time).
   void finishOutputs();
+  /// After finishLoads(): step to t_end_s (the last load sample's time) in slices of at most
+  /// slice_s, calling after_slice() after each (outputs, progress; return false to stop early,
+  /// e.g. on shutdown); then one step past t_end so the receiver frame at t_end exists (the last
+  /// load is held), and finishOutputs(). Terminates whatever the rounding of the accumulated step
+  /// time. Returns the steps taken.
+  uint64_t finishRun(double t_end_s, double slice_s, const std::function<bool()>& after_slice = {});
 
   /// Move the receiver frames produced since the last call into `out` (replaces its content).
   void takeReceiverSamples(ReceiverBlock& out);

@@ -136,3 +136,32 @@ TEST(SoilModel, DownwardLoadMovesTheSurfaceDown) {
   for (size_t f = 0; f < rb.frames(); ++f) vmin = std::min(vmin, rb.velocity_m_s[3 * f + 2]);
   EXPECT_LT(vmin, 0.0);
 }
+
+TEST(SoilModel, FinishRunEndsOneStepPastTheLastLoadWhateverTheRounding) {
+  // The accumulated step time can land a hair below t_end (within advance()'s 1e-9 dt tolerance):
+  // the end of a run must still terminate, hold the last load and emit the receiver frame at t_end.
+  SoilParams p = smallParams(railvib::soil::testing::smallScenario(
+      "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
+      "[{name: s0, x_m: 0.0, y_m: 0.0}]"));
+  p.receivers.resize(1);
+  const double load_rate_hz = 2000.0;
+  for (const double t_end : {0.0137, 0.0180, 0.0235, 0.0301}) {
+    SoilModel m(p, {0.0});
+    const size_t frames = static_cast<size_t>(std::llround(t_end * load_rate_hz)) + 1;
+    std::vector<double> loads(frames);
+    for (size_t f = 0; f < frames; ++f) loads[f] = 1e4 * std::sin(200.0 * f / load_rate_hz);
+    m.pushLoads(0, loads);
+    m.finishLoads();
+    int slices = 0;
+    const uint64_t steps = m.finishRun(t_end, 0.004, [&] { return ++slices < 1000; });
+    EXPECT_LT(slices, 1000) << "t_end " << t_end;
+    EXPECT_GE(m.time(), t_end - 1e-9 * m.dt()) << "t_end " << t_end;
+    EXPECT_LE(m.time(), t_end + 2.0 * m.dt()) << "t_end " << t_end;
+    EXPECT_EQ(steps, m.solver().stepCount());
+    ReceiverBlock rb;
+    m.takeReceiverSamples(rb);
+    // Every receiver frame up to t_end exists, none beyond the last step.
+    EXPECT_GE(rb.frames(), static_cast<size_t>(std::floor(t_end * p.receiver_rate_hz + 1e-9)) + 1) << t_end;
+    EXPECT_LE(rb.frames(), static_cast<size_t>(std::floor(m.time() * p.receiver_rate_hz + 1e-9)) + 1) << t_end;
+  }
+}
