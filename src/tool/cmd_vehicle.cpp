@@ -37,6 +37,7 @@ json modesJson(const std::vector<Mode>& modes, bool flexible) {
               {"damping_ratio", m.damping_ratio},
               {"name_energy_share", m.name_share}};
     if (flexible) j["vehicle_energy_share"] = m.vehicle_energy_share;
+    if (std::isfinite(m.pivot_offset_m)) j["pivot_behind_bogie_centre_m"] = m.pivot_offset_m;
     arr.push_back(j);
   }
   return arr;

@@ -73,6 +73,27 @@ void nameMode(const VehicleModel& model, const DofLabels& L, const Eigen::Vector
   mode.name = c->first;
   mode.name_share = total > 0.0 ? c->second / total : 0.0;
   mode.body = best(by_body)->first;
+
+  // Bogie bounce vs pitch from the kinematics: the point of zero vertical motion
+  // w = z + (s - s_c) theta = 0, i.e. s - s_c = -z / theta (in the least-squares
+  // sense for a complex shape).
+  for (const BodyInfo& b : model.bodies()) {
+    if (b.kind != BodyKind::Bogie || b.name != mode.body) continue;
+    const std::complex<double> z = full[b.z_dof], theta = full[b.theta_dof];
+    const std::string bogie = kBogieLabel[std::min(2, b.index)];
+    const bool named_after_this_bogie = mode.name == bogie + " bounce" || mode.name == bogie + " pitch";
+    if (!named_after_this_bogie) break;
+    const auto& axles = model.params().axle_offsets_m;
+    const double half_wheelbase_m = 0.5 * (axles[2 * b.index + 1] - axles[2 * b.index]);
+    if (half_wheelbase_m * std::abs(theta) < 0.01 * std::abs(z)) {
+      mode.name = bogie + " bounce";  // the axles move within 1 % alike: no pivot to speak of
+    } else {
+      mode.pivot_offset_m = -std::real(z * std::conj(theta)) / std::norm(theta);
+      mode.name = bogie + (std::abs(mode.pivot_offset_m) <= half_wheelbase_m * (1.0 + 1e-9) ? " pitch" : " bounce");
+    }
+    mode.name_share = total > 0.0 ? (by_cat[bogie + " bounce"] + by_cat[bogie + " pitch"]) / total : 0.0;
+    break;
+  }
 }
 
 /// Damped modes of (M, C, K) from the state-space eigenproblem; returns

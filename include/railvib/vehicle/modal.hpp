@@ -16,6 +16,7 @@
 #pragma once
 
 #include <complex>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,13 @@ struct Mode {
   std::string body;                   ///< body with the largest kinetic energy share
   double frequency_hz = 0.0;          ///< undamped natural frequency |lambda| / 2 pi
   double damping_ratio = 0.0;         ///< -Re(lambda) / |lambda|
-  double name_share = 0.0;            ///< share of the vehicle kinetic energy in the named category
+  double name_share = 0.0;            ///< vehicle kinetic energy share of the named category (bogies: bounce + pitch)
   double vehicle_energy_share = 1.0;  ///< share of the total kinetic energy in the vehicle (flexible)
+  /// Bogie modes: where the bogie's vertical motion vanishes, behind its centre (m; negative =
+  /// ahead, towards the front axle; NaN when it does not pitch). Within half the wheelbase the mode
+  /// is named pitch, else bounce: a bogie turning about one axle is a pitch, even when most of its
+  /// kinetic energy is in the vertical motion of its centre.
+  double pivot_offset_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ModalOptions {

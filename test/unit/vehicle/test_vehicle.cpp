@@ -297,17 +297,25 @@ TEST(VehicleModes, RigidTrackBogieMatchesHandDerivedTwoMassCheck) {
   K << km + kd + k2, km * lm + kd * ld, km * lm + kd * ld, km * lm * lm + kd * ld * ld;
   M << m, 0, 0, I;
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> es(K, M);
-  const double f1 = std::sqrt(es.eigenvalues()[0]) / (2 * M_PI), f2 = std::sqrt(es.eigenvalues()[1]) / (2 * M_PI);
   const auto modes = vehicleModesRigid(s.model);
-  std::vector<double> lead;
+  std::vector<const railvib::vehicle::Mode*> lead;
   for (const auto& md : modes) {
-    if (md.body == "leading_bogie") lead.push_back(md.frequency_hz);
+    if (md.body == "leading_bogie") lead.push_back(&md);
   }
   ASSERT_GE(lead.size(), 2u);
-  for (double f : {f1, f2}) {
-    double best = 1e9;
-    for (double g : lead) best = std::min(best, std::abs(g / f - 1.0));
-    EXPECT_LT(best, 0.01) << "hand-derived " << f << " Hz";
+  const double half_wheelbase = 0.5 * (p.axle_offsets_m[1] - p.axle_offsets_m[0]);
+  for (int k = 0; k < 2; ++k) {
+    const double f = std::sqrt(es.eigenvalues()[k]) / (2 * M_PI);
+    const railvib::vehicle::Mode* best = lead.front();
+    for (const auto* g : lead) {
+      if (std::abs(g->frequency_hz / f - 1.0) < std::abs(best->frequency_hz / f - 1.0)) best = g;
+    }
+    EXPECT_LT(std::abs(best->frequency_hz / f - 1.0), 0.01) << "hand-derived " << f << " Hz";
+    // Where the bogie's vertical motion vanishes: w = z + (s - c) theta = 0.
+    const double pivot = -es.eigenvectors()(0, k) / es.eigenvectors()(1, k);
+    EXPECT_NEAR(best->pivot_offset_m, pivot, 0.02 * half_wheelbase) << f << " Hz";
+    const bool pitch = std::abs(pivot) <= half_wheelbase;
+    EXPECT_EQ(best->name, std::string("leading bogie ") + (pitch ? "pitch" : "bounce")) << f << " Hz";
   }
 }
 
