@@ -35,6 +35,14 @@ def launch(args, timeout_s=600, kill_node=None, kill_after_s=0.0):
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
                             start_new_session=True)
     if kill_node:
+        # Kill it mid-run: once it is registered (start-up time varies with the machine's load), then after
+        # kill_after_s of running.
+        deadline = time.time() + 60.0
+        while time.time() < deadline and proc.poll() is None:
+            listed = subprocess.run(["rosnode", "list"], env=env, capture_output=True, text=True, timeout=30)
+            if kill_node in listed.stdout.split():
+                break
+            time.sleep(0.1)
         time.sleep(kill_after_s)
         subprocess.run(["rosnode", "kill", kill_node], env=env, capture_output=True, timeout=60)
     try:
@@ -71,7 +79,7 @@ class ScenarioChecks(unittest.TestCase):
     def test_killed_node_stops_the_launch_and_leaves_a_readable_bag(self):
         bag = WORK / "killed.bag"
         code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)], timeout_s=300,
-                           kill_node="/building", kill_after_s=1.5)
+                           kill_node="/building", kill_after_s=1.0)
         self.assertNotEqual(code, -999, "the launch did not stop after a required node was killed")
         self.assertIn("building", out.split("REQUIRED process", 1)[-1][:200] if "REQUIRED process" in out else out,
                       "the launch output should name the node that died")
