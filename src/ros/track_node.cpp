@@ -4,18 +4,21 @@
 
 #include "railvib/SleeperLayout.h"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
 
 TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
   const auto track_section = config.section("track");
-  const auto simulation = config.section("simulation");
   const track::TrackParams params = track::loadTrackParams(track_section);
-  const double dt_s = simulation.number("time_step_s", Range::positive());
+  // The same `simulation` section as the vehicle (step, duration, speed, start), validated once.
+  const vehicle::PassageParams run = vehicle::loadPassageParams(config.root());
   const double rate_hz = track_section.section("output").number("load_sample_rate_hz", Range::positive());
-  stream_ = std::make_unique<track::SoilLoadStream>(params, dt_s, rate_hz);
-  status_ = std::make_unique<NodeStatus>(nh, "track", simulation.number("duration_s", Range::positive()));
+  // A convected start must match the vehicle's, or the ballast loads differ from the coupled run.
+  stream_ = std::make_unique<track::SoilLoadStream>(params, run.time_step_s, rate_hz,
+                                                    run.convected_track_start ? run.speed_m_s : 0.0);
+  status_ = std::make_unique<NodeStatus>(nh, "track", run.duration_s);
 
   double block_duration_s = 0.05;
   int required_subscribers = 1;
@@ -34,8 +37,9 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 
   loads_publisher_ = BlockPublisher<railvib::SoilLoads>(nh, "soil_loads", required_subscribers);
   contact_subscriber_ = nh.subscribe("contact_forces", 0, &TrackNode::onContactForces, this);
-  ROS_INFO("track: %d sleepers, dt %.3g s, soil loads at %.0f Hz in blocks of %zu samples", stream_->sleeperCount(),
-           dt_s, rate_hz, block_samples_);
+  ROS_INFO("track: %d sleepers, dt %.3g s, soil loads at %.0f Hz in blocks of %zu samples, start %s",
+           stream_->sleeperCount(), run.time_step_s, rate_hz, block_samples_,
+           run.convected_track_start ? "convected with the loads" : "at rest");
 }
 
 void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {

@@ -21,9 +21,11 @@ signal::DecimatorSpec loadDecimatorSpec(double dt_s, double load_rate_hz) {
 }
 }  // namespace
 
-SoilLoadStream::SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz)
+SoilLoadStream::SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz,
+                               double start_convection_speed_m_s)
     : stepper_(params, dt_s),
-      decimator_(loadDecimatorSpec(dt_s, load_sample_rate_hz), static_cast<size_t>(stepper_.sleeperCount())) {}
+      decimator_(loadDecimatorSpec(dt_s, load_sample_rate_hz), static_cast<size_t>(stepper_.sleeperCount())),
+      start_convection_speed_m_s_(start_convection_speed_m_s) {}
 
 size_t SoilLoadStream::push(size_t sample_count, size_t wheel_count, const double* position_m, const double* force_n,
                             std::vector<double>& out) {
@@ -35,7 +37,7 @@ size_t SoilLoadStream::push(size_t sample_count, size_t wheel_count, const doubl
       loads_[w].force_n = force_n[s * wheel_count + w];
     }
     if (contact_samples_ == 0) {
-      stepper_.start(loads_, 0.0);
+      stepper_.start(loads_, 0.0, start_convection_speed_m_s_);
     } else {
       stepper_.step(loads_);
     }

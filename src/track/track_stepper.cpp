@@ -8,12 +8,12 @@ TrackStepper::TrackStepper(const TrackParams& params, double dt_s) : model_(para
   updateOutputs();
 }
 
-void TrackStepper::start(const std::vector<PointLoad>& initial_loads, double t0_s) {
+void TrackStepper::start(const std::vector<PointLoad>& initial_loads, double t0_s, double convection_speed_m_s) {
   buffer_.clear();
   for (const auto& l : initial_loads) {
     if (l.x_m >= model_.railStart() && l.x_m <= model_.railEnd()) buffer_.push_back(l);
   }
-  newmark_.setStaticEquilibrium(buffer_, t0_s);
+  newmark_.setConvectedStaticState(buffer_, convection_speed_m_s, t0_s);
   updateOutputs();
 }
 

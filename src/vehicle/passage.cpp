@@ -88,60 +88,10 @@ Eigen::MatrixXd FlexibleRail::staticCompliance(const std::vector<double>& x) {
   return 0.5 * (G + G.transpose());
 }
 
-namespace {
-/// d/dx and d2/dx2 of samples u at increasing positions xs (central differences, one-sided at the ends).
-void derivatives(const std::vector<double>& xs, const std::vector<double>& u, std::vector<double>& d1,
-                 std::vector<double>& d2) {
-  const size_t n = xs.size();
-  d1.assign(n, 0.0);
-  d2.assign(n, 0.0);
-  if (n < 3) return;
-  for (size_t i = 0; i < n; ++i) {
-    const size_t a = i == 0 ? 0 : i - 1, b = i + 1 == n ? n - 1 : i + 1;
-    d1[i] = (u[b] - u[a]) / (xs[b] - xs[a]);
-    const size_t c = std::min(std::max<size_t>(i, 1), n - 2);
-    const double h1 = xs[c] - xs[c - 1], h2 = xs[c + 1] - xs[c];
-    d2[i] = 2.0 * ((u[c + 1] - u[c]) / h2 - (u[c] - u[c - 1]) / h1) / (h1 + h2);
-  }
-}
-}  // namespace
-
 void FlexibleRail::start(const std::vector<double>& x, const std::vector<double>& F, double t_s, double V) {
   std::vector<track::PointLoad> loads;
   for (size_t i = 0; i < x.size(); ++i) loads.push_back({x[i], F[i]});
-  const track::TrackModel& m = impl_->model;
-  const Eigen::VectorXd u = m.staticDeflection(loads);
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(u.size()), a = Eigen::VectorXd::Zero(u.size());
-  // Steady moving load: u(x, t) = U(x - V t) => v = -V U', a = V^2 U''.
-  std::vector<double> d1, d2, vals;
-  const std::vector<double>& xn = m.railNodePositions();
-  vals.resize(xn.size());
-  for (int j = 0; j < m.railNodeCount(); ++j) vals[j] = u[m.railTheta(j)];
-  derivatives(xn, vals, d1, d2);
-  for (int j = 0; j < m.railNodeCount(); ++j) {
-    v[m.railW(j)] = -V * u[m.railTheta(j)];  // w' = theta exactly (Hermite)
-    a[m.railW(j)] = V * V * d1[j];
-    v[m.railTheta(j)] = -V * d1[j];
-    a[m.railTheta(j)] = V * V * d2[j];
-  }
-  const std::vector<double>& xs = m.sleeperPositions();
-  for (int family = 0; family < 2; ++family) {
-    vals.assign(xs.size(), 0.0);
-    bool present = true;
-    for (int s = 0; s < m.sleeperCount(); ++s) {
-      const Eigen::Index d = family == 0 ? m.sleeperDof(s) : m.baseDof(s);
-      if (d < 0) present = false;
-      vals[s] = d >= 0 ? u[d] : 0.0;
-    }
-    if (!present) continue;
-    derivatives(xs, vals, d1, d2);
-    for (int s = 0; s < m.sleeperCount(); ++s) {
-      const Eigen::Index d = family == 0 ? m.sleeperDof(s) : m.baseDof(s);
-      v[d] = -V * d1[s];
-      a[d] = V * V * d2[s];
-    }
-  }
-  impl_->newmark.setState(u, v, a, t_s);
+  impl_->newmark.setConvectedStaticState(loads, V, t_s);
 }
 
 void FlexibleRail::prepareStep(const std::vector<double>& x, Eigen::VectorXd& free, Eigen::MatrixXd& G) {

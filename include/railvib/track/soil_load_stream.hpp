@@ -3,7 +3,8 @@
 // computation of the track node; the node only moves messages.
 //
 // Contact sample i stands for time i * dt (i = 0 is t = 0). Sample 0 sets the
-// static equilibrium the run starts from (no start-up transient); each later
+// static equilibrium the run starts from (at rest, or convected with the
+// loads; no start-up transient); each later
 // sample advances the Newmark integrator by one step with the loads acting at
 // the end of the step. The per-step soil loads (both rails: 2 x half track,
 // N, downward positive) go through the anti-alias decimator of
@@ -20,8 +21,10 @@ namespace railvib::track {
 
 class SoilLoadStream {
  public:
-  /// load_sample_rate_hz must divide 1/dt_s into an integer ratio >= 1.
-  SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz);
+  /// load_sample_rate_hz must divide 1/dt_s into an integer ratio >= 1. start_convection_speed_m_s:
+  /// see TrackStepper::start (the vehicle's simulation.convected_track_start uses the run's speed).
+  SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz,
+                 double start_convection_speed_m_s = 0.0);
 
   /// Push contact samples, row-major [sample][wheel]: positions (m) and forces (N, compression positive).
   /// Completed soil-load samples, row-major [sample][sleeper], are appended to `out`; returns their count.
@@ -45,6 +48,7 @@ class SoilLoadStream {
   signal::Decimator decimator_;
   std::vector<PointLoad> loads_;
   uint64_t contact_samples_ = 0;
+  double start_convection_speed_m_s_ = 0.0;
 };
 
 }  // namespace railvib::track

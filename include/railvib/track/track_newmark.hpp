@@ -57,6 +57,11 @@ class TrackNewmark {
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t_s = 0.0);
   /// Static equilibrium under the loads, at rest (v = a = 0).
   void setStaticEquilibrium(const std::vector<PointLoad>& loads, double t_s = 0.0);
+  /// Static deflection U under the loads, convected with them at speed V (steady moving-load
+  /// start: u(x, t) = U(x - V t), so v = -V U' and a = V^2 U'' along the rail and the
+  /// sleeper/foundation rows; derivatives by finite differences over the node positions).
+  /// V = 0 is setStaticEquilibrium.
+  void setConvectedStaticState(const std::vector<PointLoad>& loads, double speed_m_s, double t_s = 0.0);
 
   // ---- coupled step
   /// Free end-of-step displacement (no contact loads); optional extra nodal

@@ -29,8 +29,10 @@ class TrackStepper {
   int sleeperCount() const { return model_.sleeperCount(); }
   const std::vector<double>& sleeperPositions() const { return model_.sleeperPositions(); }
 
-  /// Start at rest in static equilibrium under the loads (e.g. the first sample's contact loads).
-  void start(const std::vector<PointLoad>& initial_loads, double t0_s = 0.0);
+  /// Start in static equilibrium under the loads (e.g. the first sample's contact loads), at rest,
+  /// or, with convection_speed_m_s != 0, in the steady state of that deflection moving with the
+  /// loads (TrackNewmark::setConvectedStaticState): no start-up transient from the motion.
+  void start(const std::vector<PointLoad>& initial_loads, double t0_s = 0.0, double convection_speed_m_s = 0.0);
   /// Advance one step: `loads` act at the END of the step (t + dt), positive downward.
   /// Loads outside the rail are ignored (counted in ignoredLoadCount()).
   void step(const std::vector<PointLoad>& loads);
