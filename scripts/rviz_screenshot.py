@@ -89,7 +89,7 @@ def main():
     try:
         time.sleep(1.0)
         launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "railvib", "replay.launch", "bag:=" + os.path.abspath(args.bag),
-                                   "rviz:=true", f"rate:={args.rate}"], env=env, stdout=log, stderr=subprocess.STDOUT,
+                                   "rviz:=true", f"rate:={args.rate}", "start_delay_s:=5"], env=env, stdout=log, stderr=subprocess.STDOUT,
                                   start_new_session=True)
         # Wait for the master the launch starts, then follow the replay's /clock.
         deadline = time.time() + args.timeout

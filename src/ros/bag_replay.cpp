@@ -14,6 +14,8 @@ BagReplay::BagReplay(ros::NodeHandle& nh, ros::NodeHandle& private_nh) : nh_(nh)
   private_nh.param("loop", loop_, loop_);
   private_nh.param("publish_clock", publish_clock_, publish_clock_);
   private_nh.param("required_subscribers", required_subscribers_, required_subscribers_);
+  private_nh.param("start_delay_s", start_delay_s_, start_delay_s_);
+  if (!(start_delay_s_ >= 0.0)) throw std::runtime_error("~start_delay_s must be >= 0");
   private_nh.getParam("topics", topics_);
   if (!(rate_ > 0.0)) throw std::runtime_error("~rate must be > 0");
   try {
@@ -68,6 +70,7 @@ void BagReplay::playOnce(bool first_pass) {
       }
       break;
     }
+    if (start_delay_s_ > 0.0) ros::WallDuration(start_delay_s_).sleep();
   }
   const ros::Time bag_start = view->getBeginTime();
   const ros::WallTime wall_start = ros::WallTime::now();

@@ -5,10 +5,14 @@
   identical numbers in every stream of their bags;
 - failure handling: a required node killed mid-run stops the launch, and the
   partial bag is closed cleanly (readable, the streams reported incomplete);
-- a truncated bag given to replay.launch is refused with a clear error, not a crash.
+- a truncated bag given to replay.launch is refused with a clear error, not a crash;
+- a replay feeds the virtual sensors (same live metrics as in the recording), the
+  tram poses on /tf and the RViz scene (soil surface clouds equal to the recorded
+  snapshots, site markers), probed by replay_probe.py.
 
 usage: scenario_checks.py RESULTS_XML
 """
+import json
 import os
 import pathlib
 import shutil
@@ -92,6 +96,57 @@ class ScenarioChecks(unittest.TestCase):
             blocks = sorted(stream_blocks(bag, topic), key=lambda m: m.first_sample_index)
             ended.append(bool(blocks) and blocks[-1].end_of_stream)
         self.assertFalse(all(ended), "every stream is complete: the kill came after the end of the run")
+
+    def test_replay_feeds_sensors_tf_and_rviz_scene(self):
+        source = WORK / "determinism_a.bag"
+        if not source.exists():
+            launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(source)])
+        PORT[0] += 1
+        env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
+        probe_out = WORK / "replay_probe.json"
+        replay = subprocess.Popen(["roslaunch", "-p", str(PORT[0]), "railvib", "replay.launch", "bag:=" + str(source),
+                                   "visualization:=true", "start_delay_s:=4", "rate:=1.0"],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                                  start_new_session=True)
+        probe = subprocess.Popen([sys.executable, str(pathlib.Path(__file__).with_name("replay_probe.py")),
+                                  str(probe_out)], env=env, start_new_session=True)
+        time.sleep(25.0)  # start-up, the 4 s delay, 0.5 s of replay, and margin for a loaded machine
+        os.killpg(probe.pid, signal.SIGINT)
+        probe.wait(timeout=30)
+        os.killpg(replay.pid, signal.SIGINT)
+        out, _ = replay.communicate(timeout=60)
+        self.assertTrue(probe_out.exists(), "the probe wrote nothing:\n" + out[-3000:])
+        got = json.loads(probe_out.read_text())
+
+        with rosbag.Bag(str(source)) as bag:
+            snapshots = {m.header.stamp.to_nsec(): m for _, m, _ in bag.read_messages(topics=["/surface_snapshot"])}
+            recorded_metrics = {}
+            for _, m, _ in bag.read_messages(topics=["/sensor_metrics"]):
+                recorded_metrics[m.sensor_name] = m  # the last one covers the whole run
+            tf_count = sum(1 for _ in bag.read_messages(topics=["/tf"]))
+
+        self.assertGreater(len(snapshots), 0)
+        self.assertGreater(len(recorded_metrics), 0)
+        self.assertGreater(tf_count, 0)
+        # RViz scene: every snapshot became a cloud carrying the same velocities (mm/s) on the same grid.
+        self.assertEqual(len(got["clouds"]), len(snapshots), "surface clouds vs recorded snapshots")
+        for cloud in got["clouds"]:
+            snap = snapshots[cloud["stamp_ns"]]
+            self.assertEqual((cloud["width"], cloud["height"]), (snap.nx, snap.ny))
+            for v_mm_s, v_m_s in zip(cloud["values_mm_s"], snap.vertical_velocity_m_s):
+                self.assertAlmostEqual(v_mm_s, 1000.0 * v_m_s, delta=1e-6 * max(1.0, abs(v_mm_s)))
+        for ns in ("rails", "sleepers", "building", "sensors", "tram_carbodies", "tram_wheels"):
+            self.assertIn(ns, got["marker_namespaces"])
+        for frame in ("tram/front_carbody", "tram/leading_bogie", "building", "sensor_ground_2m"):
+            self.assertIn(frame, got["marker_frames"])
+        # The tram poses come back on /tf, every one of them.
+        self.assertEqual(got["tf_messages"], tf_count)
+        self.assertEqual(got["tf_frames"].get("tram/front_carbody"), tf_count)
+        # The virtual sensors on the replayed streams give the metrics recorded live.
+        self.assertEqual(sorted(got["metrics"]), sorted(recorded_metrics))
+        for name, live in recorded_metrics.items():
+            self.assertAlmostEqual(got["metrics"][name]["kb_f_max"], live.kb_f_max, delta=1e-12 + 1e-9 * live.kb_f_max)
+            self.assertAlmostEqual(got["metrics"][name]["ppv_m_s"], live.ppv_m_s, delta=1e-15 + 1e-9 * live.ppv_m_s)
 
     def test_truncated_bag_is_refused_with_a_clear_error(self):
         source = WORK / "determinism_a.bag"

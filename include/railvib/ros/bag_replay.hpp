@@ -18,7 +18,9 @@ namespace railvib::ros_io {
 class BagReplay {
  public:
   /// Private parameters: ~bag, ~rate (default 1.0), ~loop (default false), ~topics (default: all),
-  /// ~required_subscribers (on the first stream topic, default 1), ~publish_clock (default true).
+  /// ~required_subscribers (on the first stream topic, default 1), ~publish_clock (default true),
+  /// ~start_delay_s (wall seconds between advertising and the first message, default 0: time for
+  /// late subscribers such as RViz or a monitoring tool to connect).
   BagReplay(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   /// Replay (loops until shutdown when ~loop is set). Throws on a read error.
   void run();
@@ -32,6 +34,7 @@ class BagReplay {
   bool loop_ = false;
   bool publish_clock_ = true;
   int required_subscribers_ = 1;
+  double start_delay_s_ = 0.0;
   std::vector<std::string> topics_;
   rosbag::Bag bag_;
   std::map<std::string, ros::Publisher> publishers_;
