@@ -47,10 +47,8 @@ void BuildingNode::onVelocities(const railvib::SurfaceVelocities::ConstPtr& msg)
     try {
       consume(*msg);
     } catch (const std::exception& e) {
-      ROS_FATAL("building: %s", e.what());
-      status_->error(e.what());
       failed_ = true;
-      ros::shutdown();
+      status_->fail(e.what());
     }
   });
 }

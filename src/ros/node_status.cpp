@@ -22,6 +22,12 @@ void NodeStatus::finish(double sim_time_s) {
 
 void NodeStatus::error(const std::string& message) { publish(0.0, diagnostic_msgs::DiagnosticStatus::ERROR, message); }
 
+void NodeStatus::fail(const std::string& message) {
+  ROS_FATAL("%s: %s", name_.c_str(), message.c_str());
+  error(message);
+  ros::shutdown();
+}
+
 void NodeStatus::publish(double sim_time_s, uint8_t level, const std::string& message) {
   const ros::WallTime now = ros::WallTime::now();
   const double wall_dt = std::max(1e-9, (now - last_publish_).toSec());

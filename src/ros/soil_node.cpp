@@ -68,10 +68,8 @@ void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
     try {
       consume(*msg);
     } catch (const std::exception& e) {
-      ROS_FATAL("soil: %s", e.what());
-      status_->error(e.what());
       failed_ = true;
-      ros::shutdown();
+      status_->fail(e.what());
     }
   });
 }

@@ -47,10 +47,8 @@ void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {
   try {
     consume(*msg);
   } catch (const std::exception& e) {
-    ROS_FATAL("track: %s", e.what());
-    status_->error(e.what());
     failed_ = true;
-    ros::shutdown();
+    status_->fail(e.what());
   }
 }
 

@@ -24,6 +24,9 @@ class NodeStatus {
   void finish(double sim_time_s);
   /// Mark an error (published as ERROR with the message).
   void error(const std::string& message);
+  /// The node cannot go on: FATAL log line naming the node, ERROR on /diagnostics, ROS shutdown
+  /// (a required node's exit then stops the launch).
+  void fail(const std::string& message);
 
  private:
   void publish(double sim_time_s, uint8_t level, const std::string& message);
