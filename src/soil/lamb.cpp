@@ -141,6 +141,8 @@ LambResult runLamb(const LambSpec& spec) {
   o.precision = spec.precision;
   o.absorbing_layer_m = spec.absorbing_layer_m;
   o.absorbing_layer_alpha_1_s = spec.absorbing_layer_alpha_1_s;
+  o.absorbing_layer_exponent = spec.absorbing_layer_exponent;
+  o.absorbing_layer_bottom = spec.absorbing_layer_bottom;
   Solver s(buildUniformMesh(n, n, spec.h_m, spec.h_m, z, std::vector<Material>(nz, spec.material)), o);
   ForceChannel ch;
   ch.nodes = {s.mesh().node(0, 0, 0)};
@@ -211,8 +213,45 @@ LambResult runLamb(const LambSpec& spec) {
   return res;
 }
 
-ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m,
-                                       const std::vector<double>& layer_alpha_1_s) {
+ReflectionRow reflectionFigures(const std::vector<double>& w, const std::vector<double>& w_ref, double dt_s) {
+  ReflectionRow row;
+  const size_t n = std::min(w.size(), w_ref.size());
+  double dmax = 0.0, ref_max = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    dmax = std::max(dmax, std::abs(w[i] - w_ref[i]));
+    ref_max = std::max(ref_max, std::abs(w_ref[i]));
+  }
+  row.peak = dmax / ref_max;
+  // |Fourier transform|^2 of the difference and of the reference on 1 Hz lines.
+  auto band = [&](double f0, double f1) {
+    double ed = 0.0, er = 0.0;
+    for (double f = f0; f <= f1 + 1e-9; f += 1.0) {
+      const double dphi = 2.0 * M_PI * f * dt_s;
+      const double c1 = std::cos(dphi), s1 = std::sin(dphi);
+      double c = 1.0, s = 0.0, dr = 0.0, di = 0.0, rr = 0.0, ri = 0.0;
+      for (size_t i = 0; i < n; ++i) {
+        const double d = w[i] - w_ref[i];
+        dr += d * c;
+        di -= d * s;
+        rr += w_ref[i] * c;
+        ri -= w_ref[i] * s;
+        const double cn = c * c1 - s * s1;
+        s = s * c1 + c * s1;
+        c = cn;
+      }
+      ed += dr * dr + di * di;
+      er += rr * rr + ri * ri;
+    }
+    return std::sqrt(ed / er);
+  };
+  row.band_10_50 = band(10.0, 50.0);
+  row.band_10_20 = band(10.0, 20.0);
+  row.band_20_35 = band(21.0, 35.0);
+  row.band_35_50 = band(36.0, 50.0);
+  return row;
+}
+
+ReflectionResult runBoundaryReflection(double small_half_width_m, const std::vector<ReflectionCase>& cases) {
   ReflectionResult out;
   LambSpec ref;
   ref.distances_m = {6.0};
@@ -223,24 +262,114 @@ ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m
   out.window_s = (2.0 * ref.half_width_m - out.r_m) / ref.material.vr();
   ref.duration_s = out.window_s;
   const LambResult a = runLamb(ref);
-  auto diff = [&](const LambResult& x) {
-    double dmax = 0.0, ref_max = 0.0;
-    const size_t n = std::min(x.w_fe[0].size(), a.w_fe[0].size());
-    for (size_t i = 0; i < n; ++i) {
-      dmax = std::max(dmax, std::abs(x.w_fe[0][i] - a.w_fe[0][i]));
-      ref_max = std::max(ref_max, std::abs(a.w_fe[0][i]));
+  out.reference_elements = a.elements;
+  for (const ReflectionCase& c : cases) {
+    LambSpec small = ref;
+    small.half_width_m = small_half_width_m + c.layer_m;
+    small.depth_m = small_half_width_m + (c.bottom ? c.layer_m : 0.0);
+    if (small.half_width_m >= ref.half_width_m) {
+      throw std::invalid_argument("soil reflection: box with the layer too large for the reference box");
     }
-    return dmax / ref_max;
-  };
-  LambSpec small = ref;
-  small.half_width_m = small.depth_m = small_half_width_m;
-  out.lysmer_only = diff(runLamb(small));
-  small.half_width_m = small.depth_m = small_half_width_m + layer_m;
-  out.lysmer_only_enlarged = diff(runLamb(small));
-  for (double alpha : layer_alpha_1_s) {
-    small.absorbing_layer_m = layer_m;
-    small.absorbing_layer_alpha_1_s = alpha;
-    out.with_layer.push_back(diff(runLamb(small)));
+    small.absorbing_layer_m = c.layer_m;
+    small.absorbing_layer_alpha_1_s = c.alpha_1_s;
+    small.absorbing_layer_exponent = c.exponent;
+    small.absorbing_layer_bottom = c.bottom;
+    const LambResult r = runLamb(small);
+    ReflectionRow row = reflectionFigures(r.w_fe[0], a.w_fe[0], a.dt_s);
+    if (r.dt_s != a.dt_s) throw std::logic_error("soil reflection: small and reference boxes must share dt");
+    row.layer = c;
+    row.elements = r.elements;
+    row.dt_s = r.dt_s;
+    out.rows.push_back(row);
+  }
+  return out;
+}
+
+namespace {
+
+struct LayeredRun {
+  std::vector<std::vector<double>> w;  // per station
+  double dt_s = 0.0;
+  size_t elements = 0;
+};
+
+LayeredRun layeredRun(const LayeredReflectionSpec& spec, const StructuredMesh& base, double half_width_m,
+                      double depth_m, const ReflectionCase& layer) {
+  const size_t n = static_cast<size_t>(std::llround(half_width_m / base.hx));
+  std::vector<double> z(base.z);
+  std::vector<Material> mats;
+  for (size_t k = 0; k < base.nz; ++k) mats.push_back(base.levelMaterial(k));
+  const double dz = z[base.nz] - z[base.nz - 1];
+  while (z.back() < depth_m - 0.5 * dz) {
+    z.push_back(z.back() + dz);
+    mats.push_back(mats.back());
+  }
+  SolverOptions o;
+  o.absorb_x_min = o.absorb_y_min = false;
+  o.symmetry_x_min = o.symmetry_y_min = true;
+  o.precision = spec.precision;
+  o.rayleigh_beta_s = spec.rayleigh_beta_s;
+  o.damping_cutoff_hz = spec.damping_cutoff_hz;
+  o.absorbing_layer_m = layer.layer_m;
+  o.absorbing_layer_alpha_1_s = layer.alpha_1_s;
+  o.absorbing_layer_exponent = layer.exponent;
+  o.absorbing_layer_bottom = layer.bottom;
+  Solver s(buildUniformMesh(n, n, base.hx, base.hx, z, mats), o);
+  ForceChannel ch;
+  ch.nodes = {s.mesh().node(0, 0, 0)};
+  ch.components = {2};
+  ch.weights = {0.25};  // quarter model
+  s.addForceChannel(ch);
+  LayeredRun run;
+  run.dt_s = s.dt();
+  run.elements = s.mesh().elementCount();
+  run.w.assign(spec.distances_m.size(), {});
+  std::vector<double> val(1);
+  while (s.time() < spec.window_s) {
+    const double t = s.time();
+    val[0] = 1.0e4 * (t >= spec.pulse_s ? 0.0 : 0.5 * (1.0 - std::cos(2.0 * M_PI * t / spec.pulse_s)));
+    s.setChannelValues(val);
+    s.step();
+    for (size_t r = 0; r < spec.distances_m.size(); ++r) {
+      double u[3];
+      s.displacementAt(spec.distances_m[r], 0.0, 0.0, u);
+      run.w[r].push_back(u[2]);
+    }
+  }
+  return run;
+}
+
+}  // namespace
+
+LayeredReflectionResult runLayeredReflection(const LayeredReflectionSpec& spec,
+                                             const std::vector<ReflectionCase>& cases) {
+  MeshSpec ms;
+  ms.x_min_m = ms.y_min_m = 0.0;
+  ms.x_max_m = ms.y_max_m = spec.box_half_width_m;
+  ms.depth_m = spec.box_depth_m;
+  ms.f_max_hz = spec.f_max_hz;
+  ms.elements_per_wavelength = spec.elements_per_wavelength;
+  const StructuredMesh base = buildMesh(spec.profile, ms);
+  LayeredReflectionResult out;
+  out.h_m = base.hx;
+  const LayeredRun ref = layeredRun(spec, base, spec.reference_half_width_m, spec.reference_depth_m, ReflectionCase{});
+  out.dt_s = ref.dt_s;
+  out.reference_elements = ref.elements;
+  for (const ReflectionCase& c : cases) {
+    const double w = spec.box_half_width_m + c.layer_m;
+    const double d = spec.box_depth_m + (c.bottom ? c.layer_m : 0.0);
+    if (w >= spec.reference_half_width_m || d >= spec.reference_depth_m) {
+      throw std::invalid_argument("soil reflection: box with the layer too large for the reference box");
+    }
+    const LayeredRun r = layeredRun(spec, base, w, d, c);
+    if (r.dt_s != ref.dt_s) throw std::logic_error("soil reflection: boxes must share dt");
+    LayeredReflectionRow row;
+    row.layer = c;
+    row.elements = r.elements;
+    for (size_t k = 0; k < spec.distances_m.size(); ++k) {
+      row.stations.push_back(reflectionFigures(r.w[k], ref.w[k], ref.dt_s));
+    }
+    out.rows.push_back(row);
   }
   return out;
 }

@@ -1,5 +1,6 @@
 #include "railvib/soil/soil_params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -68,6 +69,15 @@ SoilParams loadSoilParams(const ConfigNode& root) {
       p.solver.absorb_bottom = lysmer;
   p.solver.absorbing_layer_m = b.number("absorbing_layer_thickness_m", Range::nonNegative(), 0.0);
   p.solver.absorbing_layer_alpha_1_s = b.number("absorbing_layer_max_alpha_1_s", Range::nonNegative(), 0.0);
+  p.solver.absorbing_layer_exponent = b.number("absorbing_layer_exponent", Range::closed(0.25, 8.0), 2.0);
+  p.solver.absorbing_layer_bottom = b.flag("absorbing_layer_bottom", true);
+  const double layer = p.solver.absorbing_layer_alpha_1_s > 0.0 ? p.solver.absorbing_layer_m : 0.0;
+  if (layer > 0.0 && !lysmer) b.fail("absorbing_layer_thickness_m", "the absorbing layer needs lysmer_dashpots: true");
+  if (layer > 0.0 &&
+      (2.0 * layer >= p.mesh.x_max_m - p.mesh.x_min_m || 2.0 * layer >= p.mesh.y_max_m - p.mesh.y_min_m ||
+       (p.solver.absorbing_layer_bottom && layer >= p.mesh.depth_m))) {
+    b.fail("absorbing_layer_thickness_m", "the layer would fill the soil box");
+  }
 
   const ConfigNode out = soil.section("output");
   p.receiver_rate_hz = out.number("receiver_rate_hz", Range::open(0.0, 1e6), 1000.0);
@@ -145,6 +155,17 @@ SoilParams loadSoilParams(const ConfigNode& root) {
           << ") m is outside the soil mesh box x [" << p.mesh.x_min_m << ", " << p.mesh.x_max_m << "], y ["
           << p.mesh.y_min_m << ", " << p.mesh.y_max_m << "], depth [0, " << p.mesh.depth_m << "] m";
       mesh.fail("x_min_m", why.str());
+    }
+    // Receivers inside the absorbing layer would record damped (wrong) motion.
+    const double dist =
+        std::min({r.x_m - p.mesh.x_min_m, p.mesh.x_max_m - r.x_m, r.y_m - p.mesh.y_min_m, p.mesh.y_max_m - r.y_m,
+                  p.solver.absorbing_layer_bottom ? p.mesh.depth_m + r.z_m : 1e300});
+    if (layer > 0.0 && dist < layer) {
+      std::ostringstream why;
+      why << "receiver '" << r.name << "' (from " << origin[i] << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m
+          << ") m is " << dist << " m from the box face, inside the " << layer
+          << " m absorbing layer: enlarge soil.mesh or thin the layer";
+      b.fail("absorbing_layer_thickness_m", why.str());
     }
   }
 

@@ -319,10 +319,11 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::m
           pen(options_.absorb_x_max, m.xMax() - m.x(i));
           pen(options_.absorb_y_min, m.y(j) - m.y0);
           pen(options_.absorb_y_max, m.yMax() - m.y(j));
-          pen(options_.absorb_bottom, m.depth() - m.z[k]);
+          pen(options_.absorb_bottom && options_.absorbing_layer_bottom, m.depth() - m.z[k]);
           if (s > 0.0) {
             const size_t nd = m.node(i, j, k);
-            const double add = options_.absorbing_layer_alpha_1_s * s * s * extra_->mass[nd];
+            const double add =
+                options_.absorbing_layer_alpha_1_s * std::pow(s, options_.absorbing_layer_exponent) * extra_->mass[nd];
             for (int d = 0; d < 3; ++d) c[d][nd] += add;
           }
         }

@@ -1,4 +1,4 @@
-// railvib_tool soil commands: soil-bench column|damping|throughput|lamb, soil.
+// railvib_tool soil commands: soil-bench column|damping|throughput|lamb|reflection|reflection-layered, soil.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <vector>
 
 #include "command_registry.hpp"
@@ -29,8 +30,11 @@ double median(std::vector<double> v) {
 }
 
 int soilBench(const std::vector<std::string>& args) {
-  ArgParser p("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb | reflection");
-  p.option("case", "column | damping | throughput | lamb | reflection (or give it as first argument)", "");
+  ArgParser p(
+      "soil-bench",
+      "soil verification and benchmarks: column | damping | throughput | lamb | reflection | reflection-layered");
+  p.option("case",
+           "column | damping | throughput | lamb | reflection | reflection-layered (or give it as first argument)", "");
   p.option("nx", "throughput: elements along x", "160");
   p.option("ny", "throughput: elements along y", "80");
   p.option("nz", "throughput: elements in depth", "30");
@@ -38,10 +42,16 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("repeat", "throughput: measurements (median reported)", "5");
   p.option("precision", "float | double | both", "both");
   p.option("small-box", "reflection: half width and depth of the small box (m)", "8");
-  p.option("layer", "reflection: absorbing layer thickness (m)", "2");
+  p.option("layer", "reflection: absorbing layer thicknesses (m), comma-separated", "4");
+  p.option("alpha", "reflection: layer alpha at the outer face (1/s), comma-separated; 0 = enlarged box, no layer",
+           "0,60");
+  p.option("layer-bottom", "reflection: 1 = layer along the bottom too (box deepens), 0 = sides only", "0");
+  p.option("exponent", "reflection: exponents n of the layer profile (s/L)^n, comma-separated", "1");
   p.option("lamb-h", "lamb: element size (m)", "");
   p.option("csv", "lamb: write FE and analytic curves to this CSV", "");
+  p.option("box", "reflection-layered: half width and depth of the box of interest (m), e.g. 16,12", "16,12");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
+  addConfigOptions(p);  // reflection-layered: soil profile, mesh resolution, damping and layer from the config
   std::vector<std::string> rest = args;
   std::string which;
   if (!rest.empty() && rest[0].rfind("--", 0) != 0) {
@@ -55,6 +65,16 @@ int soilBench(const std::vector<std::string>& args) {
   if (prec == "float" || prec == "both") precisions.push_back(Precision::Float);
   if (prec == "double" || prec == "both") precisions.push_back(Precision::Double);
   if (precisions.empty()) throw ArgError("soil-bench: --precision must be float, double or both");
+  auto list = [&](const std::string& key) {
+    std::vector<double> v;
+    std::string text = p.get(key), item;
+    std::stringstream ss(text);
+    while (std::getline(ss, item, ',')) {
+      if (!item.empty()) v.push_back(std::stod(item));
+    }
+    if (v.empty()) throw ArgError("soil-bench: --" + key + " needs at least one value");
+    return v;
+  };
   json out;
   out["case"] = which;
   if (which == "column") {
@@ -115,19 +135,100 @@ int soilBench(const std::vector<std::string>& args) {
         "medians over repeats; the machine is shared, wall-clock figures are noisy; per_cpu_second = element "
         "updates per CPU second actually given to the process (user + sys over all threads)";
   } else if (which == "reflection") {
-    const std::vector<double> alphas = {100.0, 300.0, 1000.0};
-    const ReflectionResult r = runBoundaryReflection(p.getDouble("small-box"), p.getDouble("layer"), alphas);
+    std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
+    for (double layer : list("layer")) {
+      for (double n : list("exponent")) {
+        for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+      }
+    }
+    const ReflectionResult r = runBoundaryReflection(p.getDouble("small-box"), cases);
     json rows = json::array();
-    for (size_t i = 0; i < alphas.size(); ++i) {
-      rows.push_back(
-          {{"layer_m", p.getDouble("layer")}, {"layer_alpha_1_s", alphas[i]}, {"with_layer", r.with_layer[i]}});
+    for (const ReflectionRow& row : r.rows) {
+      rows.push_back({{"layer_m", row.layer.layer_m},
+                      {"alpha_1_s", row.layer.alpha_1_s},
+                      {"exponent", row.layer.exponent},
+                      {"layer_bottom", row.layer.bottom},
+                      {"peak", row.peak},
+                      {"band_10_50_hz", row.band_10_50},
+                      {"band_10_20_hz", row.band_10_20},
+                      {"band_21_35_hz", row.band_20_35},
+                      {"band_36_50_hz", row.band_35_50},
+                      {"elements", row.elements},
+                      {"dt_s", row.dt_s}});
     }
     out["r_m"] = r.r_m;
     out["window_s"] = r.window_s;
-    out["lysmer_only"] = r.lysmer_only;
-    out["lysmer_only_enlarged_box"] = r.lysmer_only_enlarged;
+    out["reference_elements"] = r.reference_elements;
     out["runs"] = rows;
-    out["note"] = "max |w_small_box - w_reference_box| / max |w_reference| at r, Lamb Hann pulse";
+    out["note"] =
+        "peak = max |w_small_box - w_reference_box| / max |w_reference| at r (Lamb Hann pulse, 50 ms); band_* = rms "
+        "reflected / direct amplitude over 1 Hz lines of the band; the first run is the small box with Lysmer "
+        "dashpots only, the others enlarge it by layer_m (alpha 0: no layer)";
+  } else if (which == "reflection-layered") {
+    const Config cfg = loadConfig(p);
+    const SoilParams sp = loadSoilParams(cfg.root());
+    LayeredReflectionSpec spec;
+    spec.profile = sp.profile;
+    spec.f_max_hz = sp.mesh.f_max_hz;
+    spec.elements_per_wavelength = sp.mesh.elements_per_wavelength;
+    spec.rayleigh_beta_s = sp.solver.rayleigh_beta_s;
+    spec.damping_cutoff_hz = sp.solver.damping_cutoff_hz;
+    spec.precision = sp.solver.precision;
+    const std::vector<double> box = list("box");
+    if (box.size() != 2) throw ArgError("soil-bench: --box needs half width,depth");
+    spec.box_half_width_m = box[0];
+    spec.box_depth_m = box[1];
+    spec.reference_half_width_m = 3.0 * box[0];
+    spec.reference_depth_m = 2.5 * box[1];
+    // Until a Rayleigh wave at 200 m/s reflected by the reference side could reach the farthest station.
+    spec.window_s = (2.0 * spec.reference_half_width_m - spec.distances_m.back()) / 200.0;
+    std::vector<ReflectionCase> cases{ReflectionCase{}};
+    const SolverOptions& so = sp.solver;
+    if (so.absorbing_layer_m > 0.0 && so.absorbing_layer_alpha_1_s > 0.0) {
+      const ReflectionCase configured{so.absorbing_layer_m, so.absorbing_layer_alpha_1_s, so.absorbing_layer_exponent,
+                                      so.absorbing_layer_bottom};
+      cases.push_back(configured);
+      cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
+    }
+    if (p.isSet("layer") || p.isSet("alpha") || p.isSet("exponent")) {
+      for (double layer : list("layer")) {
+        for (double n : list("exponent")) {
+          for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+        }
+      }
+    }
+    const LayeredReflectionResult r = runLayeredReflection(spec, cases);
+    json rows = json::array();
+    for (const LayeredReflectionRow& row : r.rows) {
+      json st = json::array();
+      for (size_t k = 0; k < row.stations.size(); ++k) {
+        const ReflectionRow& x = row.stations[k];
+        st.push_back({{"r_m", spec.distances_m[k]},
+                      {"peak", x.peak},
+                      {"band_10_50_hz", x.band_10_50},
+                      {"band_10_20_hz", x.band_10_20},
+                      {"band_21_35_hz", x.band_20_35},
+                      {"band_36_50_hz", x.band_35_50}});
+      }
+      rows.push_back({{"layer_m", row.layer.layer_m},
+                      {"alpha_1_s", row.layer.alpha_1_s},
+                      {"exponent", row.layer.exponent},
+                      {"layer_bottom", row.layer.bottom},
+                      {"elements", row.elements},
+                      {"stations", st}});
+    }
+    out["h_m"] = r.h_m;
+    out["dt_s"] = r.dt_s;
+    out["window_s"] = spec.window_s;
+    out["box_m"] = box;
+    out["reference_box_m"] = {spec.reference_half_width_m, spec.reference_depth_m};
+    out["reference_elements"] = r.reference_elements;
+    out["pulse_s"] = spec.pulse_s;
+    out["runs"] = rows;
+    out["note"] =
+        "config's soil profile and mesh resolution, quarter model, Hann pulse point load; runs: box of interest with "
+        "dashpots only, then (if configured) with the config's layer outside it and the same enlarged box without "
+        "layer, then the --layer/--alpha/--exponent product if given; figures as in `reflection`";
   } else if (which == "lamb") {
     LambSpec spec;
     spec.precision = precisions.front();
@@ -174,7 +275,8 @@ int soilBench(const std::vector<std::string>& args) {
       csv.commit();
     }
   } else {
-    throw ArgError("soil-bench: unknown case '" + which + "' (column | damping | throughput | lamb)");
+    throw ArgError("soil-bench: unknown case '" + which +
+                   "' (column | damping | throughput | lamb | reflection | reflection-layered)");
   }
   printJson(out);
   return 0;
@@ -328,7 +430,9 @@ int soilRun(const std::vector<std::string>& args) {
 }
 
 Registrar reg_soil("soil", "offline 3D soil run (loads CSV -> receiver velocities CSV + surface snapshots)", soilRun);
-Registrar reg_bench("soil-bench", "soil verification and benchmarks: column | damping | throughput | lamb | reflection",
+Registrar reg_bench("soil-bench",
+                    "soil verification and benchmarks: column | damping | throughput | lamb | reflection | "
+                    "reflection-layered",
                     soilBench);
 
 }  // namespace

@@ -62,6 +62,8 @@ struct LambSpec {
   /// Absorbing layer along the absorbing faces (see SolverOptions).
   double absorbing_layer_m = 0.0;
   double absorbing_layer_alpha_1_s = 0.0;
+  double absorbing_layer_exponent = 2.0;
+  bool absorbing_layer_bottom = true;
   Precision precision = Precision::Float;
 };
 
@@ -84,16 +86,63 @@ struct LambResult {
 LambResult runLamb(const LambSpec& spec);
 
 /// Boundary reflections: the Lamb pulse in a small box vs the same in a large
-/// reference box (whose reflections arrive after the window); returns
-/// max |w_small - w_ref| / max |w_ref| at the station over the window. The absorbing
-/// layer is added outside the small box (same region of interest).
+/// reference box (whose reflections arrive after the window). Figures at the
+/// station r over the window: peak = max |w_small - w_ref| / max |w_ref|;
+/// band = sqrt(sum |D(f)|^2 / sum |W_ref(f)|^2) over 1 Hz lines of a band (D, W_ref
+/// the Fourier transforms of the difference and of the reference), i.e. the rms
+/// reflected / direct amplitude ratio in that band. An absorbing layer is added
+/// outside the small box (same region of interest; the box grows by its thickness).
+struct ReflectionCase {
+  double layer_m = 0.0;  // 0: small box, Lysmer only
+  double alpha_1_s = 0.0;
+  double exponent = 2.0;
+  bool bottom = true;  // layer along the bottom too (the box deepens by layer_m), else sides only
+};
+struct ReflectionRow {
+  ReflectionCase layer;
+  double peak = 0.0;
+  double band_10_50 = 0.0;  // 10-50 Hz
+  double band_10_20 = 0.0, band_20_35 = 0.0, band_35_50 = 0.0;
+  size_t elements = 0;
+  double dt_s = 0.0;
+};
 struct ReflectionResult {
   double r_m = 0.0, window_s = 0.0;
-  double lysmer_only = 0.0;           // small box
-  double lysmer_only_enlarged = 0.0;  // small box enlarged by the layer thickness, no layer
-  std::vector<double> with_layer;     // enlarged box whose outer layer_m is an absorbing layer, per alpha
+  size_t reference_elements = 0;
+  std::vector<ReflectionRow> rows;  // one per case, in order
 };
-ReflectionResult runBoundaryReflection(double small_half_width_m, double layer_m,
-                                       const std::vector<double>& layer_alpha_1_s);
+ReflectionResult runBoundaryReflection(double small_half_width_m, const std::vector<ReflectionCase>& cases);
+
+/// The same on a layered profile (e.g. Haren's, as meshed by buildMesh from f_max and
+/// elements per wavelength): quarter model, vertical Hann pulse point load at the corner,
+/// box of interest box_half_width_m x box_depth_m (an absorbing layer is added outside it
+/// along the sides, and below it when ReflectionCase::bottom), compared with a reference box
+/// (same element size and depth grading, the half-space levels continued) over window_s.
+struct LayeredReflectionSpec {
+  std::vector<Layer> profile;  // layers then the half-space
+  double f_max_hz = 50.0, elements_per_wavelength = 8.0;
+  double rayleigh_beta_s = 0.0, damping_cutoff_hz = 300.0;
+  double box_half_width_m = 16.0, box_depth_m = 12.0;
+  double reference_half_width_m = 48.0, reference_depth_m = 30.0;
+  double pulse_s = 0.025;
+  double window_s = 0.4;
+  std::vector<double> distances_m = {8.0, 14.0};
+  Precision precision = Precision::Float;
+};
+struct LayeredReflectionRow {
+  ReflectionCase layer;
+  std::vector<ReflectionRow> stations;  // per distance
+  size_t elements = 0;
+};
+struct LayeredReflectionResult {
+  double h_m = 0.0, dt_s = 0.0;
+  size_t reference_elements = 0;
+  std::vector<LayeredReflectionRow> rows;
+};
+LayeredReflectionResult runLayeredReflection(const LayeredReflectionSpec& spec,
+                                             const std::vector<ReflectionCase>& cases);
+
+/// Reflection figures of a signal against a reference sampled at the same times (dt): see ReflectionResult.
+ReflectionRow reflectionFigures(const std::vector<double>& w, const std::vector<double>& w_ref, double dt_s);
 
 }  // namespace railvib::soil

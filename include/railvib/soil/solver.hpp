@@ -37,9 +37,13 @@ struct SolverOptions {
   /// Lysmer-Kuhlemeyer dashpots on x_min, x_max, y_min, y_max faces and the bottom.
   bool absorb_x_min = true, absorb_x_max = true, absorb_y_min = true, absorb_y_max = true, absorb_bottom = true;
   /// Mass-proportional absorbing layer along absorbing faces (0 = off): thickness
-  /// and the damping coefficient alpha (1/s) at the outer face, growing as (s/L)^2.
+  /// and the damping coefficient alpha (1/s) at the outer face, growing as
+  /// (s/L)^exponent with s the penetration into the layer.
   double absorbing_layer_m = 0.0;
   double absorbing_layer_alpha_1_s = 0.0;
+  double absorbing_layer_exponent = 2.0;
+  /// Whether the layer also runs along the bottom (else sides only; the bottom keeps its dashpots).
+  bool absorbing_layer_bottom = true;
   /// Constrain u_x = u_y = 0 everywhere (1D column tests).
   bool lateral_rollers = false;
   /// Symmetry planes (u_x = 0 on x = x_min, u_y = 0 on y = y_min), e.g. quarter models.

@@ -45,6 +45,13 @@ TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
                                   "poisson_ratio: 0.13}",
                                   "", "[{name: far, x_m: 0.0, y_m: 8.0}]"),
                     "receiver 'far'");
+  // Receiver s2 (y = 2 m) 2 m from the y_max face of the +-4 m box: inside a 3 m absorbing layer.
+  std::string layered = smallScenario();
+  const std::string bnd = "boundary: {lysmer_dashpots: true}";
+  layered.replace(layered.find(bnd), bnd.size(),
+                  "boundary: {lysmer_dashpots: true, absorbing_layer_thickness_m: 3.0, "
+                  "absorbing_layer_max_alpha_1_s: 60.0}");
+  expectConfigError(layered, "inside the 3 m absorbing layer");
   // 2 km box at 100 Hz: hundreds of GB.
   std::string big = smallScenario();
   const std::string box = "x_min_m: -4.0, x_max_m: 4.0, y_min_m: -4.0, y_max_m: 4.0, depth_m: 4.0";
