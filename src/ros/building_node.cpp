@@ -25,15 +25,13 @@ BuildingNode::BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 }
 
 void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
-  if (gate_.isOpen() || failed_) return;
+  if (gate_.isOpen() || status_->failed()) return;
   receiver_of_footprint_.clear();
   for (const auto& f : footprint_) {
     const auto it = std::find(layout->names.begin(), layout->names.end(), f.name);
     if (it == layout->names.end()) {
-      ROS_FATAL("building: footprint point '%s' is not among the soil receivers (soil must include the footprint)",
-                f.name.c_str());
-      failed_ = true;
-      ros::shutdown();
+      status_->fail("footprint point '" + f.name +
+                    "' is not among the soil receivers (soil must include the footprint)");
       return;
     }
     receiver_of_footprint_.push_back(static_cast<int>(it - layout->names.begin()));
@@ -43,13 +41,7 @@ void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
 
 void BuildingNode::onVelocities(const railvib::SurfaceVelocities::ConstPtr& msg) {
   gate_.run([this, msg] {
-    if (failed_ || ended_) return;
-    try {
-      consume(*msg);
-    } catch (const std::exception& e) {
-      failed_ = true;
-      status_->fail(e.what());
-    }
+    if (!ended_) status_->guard([&] { consume(*msg); });
   });
 }
 

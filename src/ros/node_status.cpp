@@ -23,6 +23,7 @@ void NodeStatus::finish(double sim_time_s) {
 void NodeStatus::error(const std::string& message) { publish(0.0, diagnostic_msgs::DiagnosticStatus::ERROR, message); }
 
 void NodeStatus::fail(const std::string& message) {
+  failed_ = true;
   ROS_FATAL("%s: %s", name_.c_str(), message.c_str());
   error(message);
   ros::shutdown();

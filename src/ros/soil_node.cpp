@@ -32,8 +32,8 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 }
 
 void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
-  if (model_ || failed_) return;
-  try {
+  if (model_) return;
+  status_->guard([&] {
     if (std::abs(layout->length_m - params_.sleeper_length_m) > 1e-9 ||
         std::abs(layout->width_m - params_.sleeper_width_m) > 1e-9) {
       throw std::runtime_error("the track's sleeper footprint differs from the soil's (same config expected)");
@@ -55,22 +55,12 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
     }
     layout_publisher_.publish(points);
     gate_.open();
-  } catch (const std::exception& e) {
-    ROS_FATAL("soil: %s", e.what());
-    failed_ = true;
-    ros::shutdown();
-  }
+  });
 }
 
 void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
   gate_.run([this, msg] {
-    if (failed_ || ended_) return;
-    try {
-      consume(*msg);
-    } catch (const std::exception& e) {
-      failed_ = true;
-      status_->fail(e.what());
-    }
+    if (!ended_) status_->guard([&] { consume(*msg); });
   });
 }
 

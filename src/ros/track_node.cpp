@@ -43,13 +43,7 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 }
 
 void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {
-  if (ended_ || failed_) return;
-  try {
-    consume(*msg);
-  } catch (const std::exception& e) {
-    failed_ = true;
-    status_->fail(e.what());
-  }
+  if (!ended_) status_->guard([&] { consume(*msg); });
 }
 
 void TrackNode::consume(const railvib::ContactForces& block) {

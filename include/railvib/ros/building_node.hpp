@@ -25,7 +25,7 @@ class BuildingNode {
  public:
   /// Private parameters: ~required_subscribers (default 1).
   BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
-  bool failed() const { return failed_; }
+  bool failed() const { return status_->failed(); }
 
  private:
   void onLayout(const railvib::PointLayout::ConstPtr& layout);
@@ -42,7 +42,6 @@ class BuildingNode {
   ros::Publisher layout_publisher_;
   ros::Subscriber layout_subscriber_, velocity_subscriber_;
   std::unique_ptr<NodeStatus> status_;
-  bool failed_ = false;
   bool ended_ = false;
 };
 

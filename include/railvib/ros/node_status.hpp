@@ -27,6 +27,17 @@ class NodeStatus {
   /// The node cannot go on: FATAL log line naming the node, ERROR on /diagnostics, ROS shutdown
   /// (a required node's exit then stops the launch).
   void fail(const std::string& message);
+  bool failed() const { return failed_; }
+  /// Run one message's work unless the node has failed; an exception fails the node.
+  template <class Body>
+  void guard(Body&& body) {
+    if (failed_) return;
+    try {
+      body();
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+  }
 
  private:
   void publish(double sim_time_s, uint8_t level, const std::string& message);
@@ -39,6 +50,7 @@ class NodeStatus {
   ros::Publisher publisher_;
   std::map<std::string, StreamCount> streams_;
   ros::WallTime last_publish_;
+  bool failed_ = false;
 };
 
 }  // namespace railvib::ros_io

@@ -25,7 +25,7 @@ class SoilNode {
   /// Private parameters: ~include_building_footprint (default true: the house's footprint points
   /// become receivers), ~required_subscribers (surface_velocities, default 1).
   SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
-  bool failed() const { return failed_; }
+  bool failed() const { return status_->failed(); }
 
  private:
   void onLayout(const railvib::SleeperLayout::ConstPtr& layout);
@@ -44,7 +44,6 @@ class SoilNode {
   LayoutGate gate_;  // loads wait for the sleeper layout
   std::vector<soil::SurfaceSnapshot> snapshots_;
   uint64_t next_velocity_index_ = 0;
-  bool failed_ = false;
   bool ended_ = false;
 };
 

@@ -21,7 +21,7 @@ class TrackNode {
   /// Private parameters: ~block_duration_s (default 0.05), ~required_subscribers (default 1).
   TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   /// True after an error (gap in the input stream, mismatched step...); the node has shut ROS down.
-  bool failed() const { return failed_; }
+  bool failed() const { return status_->failed(); }
 
  private:
   void onContactForces(const railvib::ContactForces::ConstPtr& msg);
@@ -38,7 +38,6 @@ class TrackNode {
   size_t block_samples_ = 100;
   std::unique_ptr<NodeStatus> status_;
   bool ended_ = false;
-  bool failed_ = false;
 };
 
 }  // namespace railvib::ros_io
