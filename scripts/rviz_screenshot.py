@@ -101,7 +101,6 @@ def main():
                 time.sleep(0.5)
         clock = {"t": -1.0}
         rospy.Subscriber("/clock", Clock, lambda m: clock.__setitem__("t", m.clock.to_sec()))
-        outputs = []
         for t in times:
             while clock["t"] < t:
                 if time.time() > deadline or launch.poll() is not None:
@@ -112,7 +111,6 @@ def main():
                                   check=True).stdout
             path = args.out if len(times) == 1 else args.out.replace(".png", f"_{t:.3f}s.png")
             matplotlib.image.imsave(path, xwd_to_rgb(dump))
-            outputs.append(path)
             print(f"rviz_screenshot: {path} at t = {grabbed_at:.3f} s")
         return 0
     finally:

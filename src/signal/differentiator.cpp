@@ -48,13 +48,7 @@ size_t Differentiator::push(const double* x, size_t frames, std::vector<double>&
   const size_t before = out.size();
   // y[n] = sum_j h[j] x[n - j], j = -m..m: needs x up to n + m.
   while (static_cast<int64_t>(n_out_) + m_ <= static_cast<int64_t>(n_in_) - 1) {
-    const int64_t n = static_cast<int64_t>(n_out_);
-    for (size_t c = 0; c < channels_; ++c) {
-      double s = 0.0;
-      for (int j = -m_; j <= m_; ++j) s += h_[static_cast<size_t>(j + m_)] * at(n - j, c);
-      out.push_back(s);
-    }
-    ++n_out_;
+    emitNext(out);
   }
   const int64_t keep = static_cast<int64_t>(n_out_) - m_;
   const int64_t drop = keep - buf_first_;
@@ -69,16 +63,20 @@ size_t Differentiator::flush(std::vector<double>& out) {
   if (flushed_) return 0;
   const size_t before = out.size();
   while (n_out_ < n_in_) {
-    const int64_t n = static_cast<int64_t>(n_out_);
-    for (size_t c = 0; c < channels_; ++c) {
-      double s = 0.0;
-      for (int j = -m_; j <= m_; ++j) s += h_[static_cast<size_t>(j + m_)] * at(n - j, c);
-      out.push_back(s);
-    }
-    ++n_out_;
+    emitNext(out);
   }
   flushed_ = true;
   return (out.size() - before) / channels_;
+}
+
+void Differentiator::emitNext(std::vector<double>& out) {
+  const int64_t n = static_cast<int64_t>(n_out_);
+  for (size_t c = 0; c < channels_; ++c) {
+    double s = 0.0;
+    for (int j = -m_; j <= m_; ++j) s += h_[static_cast<size_t>(j + m_)] * at(n - j, c);
+    out.push_back(s);
+  }
+  ++n_out_;
 }
 
 double Differentiator::relativeResponse(double f_hz) const {

@@ -27,6 +27,28 @@ double gauss(F f, double a, double b, int panels) {
   return sum * 0.5 * h;
 }
 
+// Quarter model of a point load on the surface at the origin: symmetry on the
+// x = 0 and y = 0 faces, Lysmer dashpots (and the given layer) on the others.
+SolverOptions quarterModelOptions(Precision precision, const ReflectionCase& layer) {
+  SolverOptions o;
+  o.absorb_x_min = o.absorb_y_min = false;
+  o.symmetry_x_min = o.symmetry_y_min = true;
+  o.precision = precision;
+  o.absorbing_layer_m = layer.layer_m;
+  o.absorbing_layer_alpha_1_s = layer.alpha_1_s;
+  o.absorbing_layer_exponent = layer.exponent;
+  o.absorbing_layer_bottom = layer.bottom;
+  return o;
+}
+
+// Force channel 0: the vertical point load at the origin (a quarter of it in the quarter model).
+void addVerticalPointLoadAtOrigin(Solver& s) {
+  ForceChannel ch;
+  ch.nodes = {s.mesh().node(0, 0, 0)};
+  ch.components = {2};
+  ch.weights = {0.25};
+  s.addForceChannel(ch);
+}
 }  // namespace
 
 PekerisSolution::PekerisSolution(const Material& m) : mat_(m) {
@@ -135,20 +157,11 @@ LambResult runLamb(const LambSpec& spec) {
   const size_t nz = static_cast<size_t>(std::llround(spec.depth_m / spec.h_m));
   std::vector<double> z(nz + 1);
   for (size_t k = 0; k <= nz; ++k) z[k] = spec.h_m * static_cast<double>(k);
-  SolverOptions o;
-  o.absorb_x_min = o.absorb_y_min = false;
-  o.symmetry_x_min = o.symmetry_y_min = true;
-  o.precision = spec.precision;
-  o.absorbing_layer_m = spec.absorbing_layer_m;
-  o.absorbing_layer_alpha_1_s = spec.absorbing_layer_alpha_1_s;
-  o.absorbing_layer_exponent = spec.absorbing_layer_exponent;
-  o.absorbing_layer_bottom = spec.absorbing_layer_bottom;
+  const SolverOptions o =
+      quarterModelOptions(spec.precision, {spec.absorbing_layer_m, spec.absorbing_layer_alpha_1_s,
+                                           spec.absorbing_layer_exponent, spec.absorbing_layer_bottom});
   Solver s(buildUniformMesh(n, n, spec.h_m, spec.h_m, z, std::vector<Material>(nz, spec.material)), o);
-  ForceChannel ch;
-  ch.nodes = {s.mesh().node(0, 0, 0)};
-  ch.components = {2};
-  ch.weights = {0.25};  // quarter model
-  s.addForceChannel(ch);
+  addVerticalPointLoadAtOrigin(s);
   const double rmax = *std::max_element(spec.distances_m.begin(), spec.distances_m.end());
   const double t_end =
       spec.duration_s > 0.0 ? spec.duration_s : rmax / spec.material.vr() + (spec.pulse ? 1.0 : 1.5) * spec.rise_s;
@@ -304,22 +317,11 @@ LayeredRun layeredRun(const LayeredReflectionSpec& spec, const StructuredMesh& b
     z.push_back(z.back() + dz);
     mats.push_back(mats.back());
   }
-  SolverOptions o;
-  o.absorb_x_min = o.absorb_y_min = false;
-  o.symmetry_x_min = o.symmetry_y_min = true;
-  o.precision = spec.precision;
+  SolverOptions o = quarterModelOptions(spec.precision, layer);
   o.rayleigh_beta_s = spec.rayleigh_beta_s;
   o.damping_cutoff_hz = spec.damping_cutoff_hz;
-  o.absorbing_layer_m = layer.layer_m;
-  o.absorbing_layer_alpha_1_s = layer.alpha_1_s;
-  o.absorbing_layer_exponent = layer.exponent;
-  o.absorbing_layer_bottom = layer.bottom;
   Solver s(buildUniformMesh(n, n, base.hx, base.hx, z, mats), o);
-  ForceChannel ch;
-  ch.nodes = {s.mesh().node(0, 0, 0)};
-  ch.components = {2};
-  ch.weights = {0.25};  // quarter model
-  s.addForceChannel(ch);
+  addVerticalPointLoadAtOrigin(s);
   LayeredRun run;
   run.dt_s = s.dt();
   run.elements = s.mesh().elementCount();

@@ -36,6 +36,8 @@ class Differentiator {
 
  private:
   double at(int64_t n, size_t c) const;
+  /// Append output sample n_out_ of every channel and advance n_out_.
+  void emitNext(std::vector<double>& out);
   double rate_;
   size_t channels_;
   double t0_;

@@ -99,16 +99,23 @@ TEST(VehicleModel, StaticEquilibriumRigidAndFlexible) {
   }
 }
 
+namespace {
+// Largest |F(t) - F(0)| / F(0) over the run and the wheels.
+double maxDeviationFromStaticContactForce(VehiclePassage& run, int wheel_count) {
+  const auto F = runForces(run);
+  double worst = 0.0;
+  for (size_t k = 0; k < F.size(); ++k) {
+    const double F0 = run.initialState().contact_force_n[static_cast<Eigen::Index>(k % wheel_count)];
+    worst = std::max(worst, std::abs(F[k] - F0) / F0);
+  }
+  return worst;
+}
+}  // namespace
+
 TEST(VehiclePassage, StartsFromEquilibriumWithoutTransientRigid) {
   Scenario s({"unevenness.defect.enabled=false", "simulation.duration_s=0.5"});
   VehiclePassage run(s.model, s.unevenness, s.pp, s.rail(false));
-  const auto F = runForces(run);
-  const int nw = s.model.wheelCount();
-  double worst = 0.0;
-  for (size_t k = 0; k < F.size(); ++k) {
-    const double F0 = run.initialState().contact_force_n[static_cast<Eigen::Index>(k % nw)];
-    worst = std::max(worst, std::abs(F[k] - F0) / F0);
-  }
+  const double worst = maxDeviationFromStaticContactForce(run, s.model.wheelCount());
   RecordProperty("max_relative_deviation", std::to_string(worst));
   EXPECT_LT(worst, 1e-6);  // no start-up transient on a rigid track
 }
@@ -120,13 +127,7 @@ TEST(VehiclePassage, NoDefectFlexibleTrackWithinOnePercentOfStatic) {
   // ~1.6 % transient that decays in ~0.1 s, see docs/vehicle.md).
   Scenario s({"unevenness.defect.enabled=false", "simulation.duration_s=0.4", "simulation.convected_track_start=true"});
   VehiclePassage run(s.model, s.unevenness, s.pp, s.rail(true));
-  const auto F = runForces(run);
-  const int nw = s.model.wheelCount();
-  double worst = 0.0;
-  for (size_t k = 0; k < F.size(); ++k) {
-    const double F0 = run.initialState().contact_force_n[static_cast<Eigen::Index>(k % nw)];
-    worst = std::max(worst, std::abs(F[k] - F0) / F0);
-  }
+  const double worst = maxDeviationFromStaticContactForce(run, s.model.wheelCount());
   RecordProperty("max_relative_deviation", std::to_string(worst));
   EXPECT_LT(worst, 0.01);
 }
