@@ -31,13 +31,13 @@ double gauss(F f, double a, double b, int panels) {
 // x = 0 and y = 0 faces, Lysmer dashpots (and the given layer) on the others.
 SolverOptions quarterModelOptions(Precision precision, const ReflectionCase& layer) {
   SolverOptions o;
-  o.absorb_x_min = o.absorb_y_min = false;
+  o.absorbing.x_min = o.absorbing.y_min = false;
   o.symmetry_x_min = o.symmetry_y_min = true;
   o.precision = precision;
-  o.absorbing_layer_m = layer.layer_m;
-  o.absorbing_layer_alpha_1_s = layer.alpha_1_s;
-  o.absorbing_layer_exponent = layer.exponent;
-  o.absorbing_layer_bottom = layer.bottom;
+  if (layer.layer_m > 0.0 && layer.alpha_1_s > 0.0) {
+    o.boundary.method = BoundaryMethod::GradedLayer;
+    o.boundary.graded_layer = {layer.layer_m, layer.alpha_1_s, layer.exponent, layer.bottom};
+  }
   return o;
 }
 

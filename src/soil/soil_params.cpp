@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 namespace railvib::soil {
@@ -61,22 +62,19 @@ SoilParams loadSoilParams(const ConfigNode& root) {
   p.solver.precision =
       mesh.choice("precision", {"float", "double"}, "float") == "float" ? Precision::Float : Precision::Double;
   p.solver.threads = static_cast<int>(mesh.integer("threads", 0, 256, 0));
+  p.solver.kernel = kernelFromName(mesh.choice("kernel", {"element"}, "element"));
   p.max_memory_gb = mesh.number("max_memory_gb", Range::open(0.0, 1e4), 12.0);
 
   const ConfigNode b = soil.section("boundary");
-  const bool lysmer = b.flag("lysmer_dashpots", true);
-  p.solver.absorb_x_min = p.solver.absorb_x_max = p.solver.absorb_y_min = p.solver.absorb_y_max =
-      p.solver.absorb_bottom = lysmer;
-  p.solver.absorbing_layer_m = b.number("absorbing_layer_thickness_m", Range::nonNegative(), 0.0);
-  p.solver.absorbing_layer_alpha_1_s = b.number("absorbing_layer_max_alpha_1_s", Range::nonNegative(), 0.0);
-  p.solver.absorbing_layer_exponent = b.number("absorbing_layer_exponent", Range::closed(0.25, 8.0), 2.0);
-  p.solver.absorbing_layer_bottom = b.flag("absorbing_layer_bottom", true);
-  const double layer = p.solver.absorbing_layer_alpha_1_s > 0.0 ? p.solver.absorbing_layer_m : 0.0;
-  if (layer > 0.0 && !lysmer) b.fail("absorbing_layer_thickness_m", "the absorbing layer needs lysmer_dashpots: true");
-  if (layer > 0.0 &&
-      (2.0 * layer >= p.mesh.x_max_m - p.mesh.x_min_m || 2.0 * layer >= p.mesh.y_max_m - p.mesh.y_min_m ||
-       (p.solver.absorbing_layer_bottom && layer >= p.mesh.depth_m))) {
-    b.fail("absorbing_layer_thickness_m", "the layer would fill the soil box");
+  p.solver.boundary = loadBoundarySpec(b);
+  const std::unique_ptr<SoilBoundary> boundary = makeSoilBoundary(p.solver.boundary);
+  // The zone where the boundary alters the physics (e.g. a layer): receivers and loads stay out of it.
+  const double layer = boundary->zoneThicknessM();
+  const bool layer_bottom = boundary->zoneAlongBottom();
+  const std::string layer_key = boundaryMethodName(p.solver.boundary.method);
+  if (layer > 0.0 && (2.0 * layer >= p.mesh.x_max_m - p.mesh.x_min_m ||
+                      2.0 * layer >= p.mesh.y_max_m - p.mesh.y_min_m || (layer_bottom && layer >= p.mesh.depth_m))) {
+    b.section(layer_key).fail("thickness_m", "the absorbing zone would fill the soil box");
   }
 
   const ConfigNode out = soil.section("output");
@@ -157,15 +155,14 @@ SoilParams loadSoilParams(const ConfigNode& root) {
       mesh.fail("x_min_m", why.str());
     }
     // Receivers inside the absorbing layer would record damped (wrong) motion.
-    const double dist =
-        std::min({r.x_m - p.mesh.x_min_m, p.mesh.x_max_m - r.x_m, r.y_m - p.mesh.y_min_m, p.mesh.y_max_m - r.y_m,
-                  p.solver.absorbing_layer_bottom ? p.mesh.depth_m + r.z_m : 1e300});
+    const double dist = std::min({r.x_m - p.mesh.x_min_m, p.mesh.x_max_m - r.x_m, r.y_m - p.mesh.y_min_m,
+                                  p.mesh.y_max_m - r.y_m, layer_bottom ? p.mesh.depth_m + r.z_m : 1e300});
     if (layer > 0.0 && dist < layer) {
       std::ostringstream why;
       why << "receiver '" << r.name << "' (from " << origin[i] << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m
           << ") m is " << dist << " m from the box face, inside the " << layer
-          << " m absorbing layer: enlarge soil.mesh or thin the layer";
-      b.fail("absorbing_layer_thickness_m", why.str());
+          << " m absorbing zone of the boundary: enlarge soil.mesh or thin the zone";
+      b.section(layer_key).fail("thickness_m", why.str());
     }
   }
 

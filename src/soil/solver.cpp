@@ -3,71 +3,16 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
 namespace railvib::soil {
 
 namespace {
-
-constexpr size_t kChunk = 64;
-// Below this many elements (nodes) per step the work (< ~0.5 ms) does not pay for
-// the OpenMP fork/join and barriers: run serially.
-constexpr size_t kMinParallelElements = 20000;
-
-// One element level k, element rows j in [j_begin, j_end): f -= K_e w, element by element,
-// vectorised over the elements of a row (x). The element outputs go to a small buffer,
-// then are added to the nodes corner by corner (no write conflict inside a loop).
-template <class Real>
-inline __attribute__((always_inline)) void levelKernelBody(const Real* __restrict ke, const Real* const* w,
-                                                           Real* const* f, size_t nx, size_t sx, size_t sxy, size_t k,
-                                                           size_t j_begin, size_t j_end) {
-  alignas(64) Real out[24][kChunk];
-  size_t off[8];
-  for (size_t c = 0; c < 8; ++c) off[c] = (c & 1) + ((c >> 1) & 1) * sx + ((c >> 2) & 1) * sxy;
-  for (size_t j = j_begin; j < j_end; ++j) {
-    const size_t base = j * sx + k * sxy;
-    for (size_t i0 = 0; i0 < nx; i0 += kChunk) {
-      const size_t len = std::min(kChunk, nx - i0);
-      const Real* src[24];
-      for (size_t q = 0; q < 24; ++q) src[q] = w[q % 3] + base + off[q / 3] + i0;
-#pragma omp simd
-      for (size_t ii = 0; ii < len; ++ii) {
-        Real in[24];
-#pragma GCC unroll 24
-        for (size_t q = 0; q < 24; ++q) in[q] = src[q][ii];
-#pragma GCC unroll 24
-        for (size_t r = 0; r < 24; ++r) {
-          Real s = 0;
-#pragma GCC unroll 24
-          for (size_t q = 0; q < 24; ++q) s += ke[r * 24 + q] * in[q];
-          out[r][ii] = s;
-        }
-      }
-      for (size_t r = 0; r < 24; ++r) {
-        Real* __restrict dst = f[r % 3] + base + off[r / 3] + i0;
-        const Real* __restrict o = out[r];
-#pragma omp simd
-        for (size_t ii = 0; ii < len; ++ii) dst[ii] -= o[ii];
-      }
-    }
-  }
-}
-
-__attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const float* ke, const float* const* w,
-                                                                              float* const* f, size_t nx, size_t sx,
-                                                                              size_t sxy, size_t k, size_t jb,
-                                                                              size_t je) {
-  levelKernelBody<float>(ke, w, f, nx, sx, sxy, k, jb, je);
-}
-
-__attribute__((target_clones("avx512f", "avx2", "default"))) void levelKernel(const double* ke, const double* const* w,
-                                                                              double* const* f, size_t nx, size_t sx,
-                                                                              size_t sxy, size_t k, size_t jb,
-                                                                              size_t je) {
-  levelKernelBody<double>(ke, w, f, nx, sx, sxy, k, jb, je);
-}
-
+// Below this many nodes per step the nodal update (< ~0.5 ms) does not pay for
+// the OpenMP fork/join: run serially.
+constexpr size_t kMinParallelNodes = 20000;
 }  // namespace
 
 size_t solverMemoryBytes(const StructuredMesh& mesh, Precision precision) {
@@ -80,6 +25,9 @@ struct Solver::Impl {
   virtual ~Impl() = default;
   virtual void init(const StructuredMesh& m, const SolverOptions& o, double dt, const std::vector<double>& mass,
                     const std::vector<double> c[3]) = 0;
+  virtual void setKernel(KernelKind kind, const ElementBox& box) = 0;
+  virtual void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) = 0;
+  virtual double kernelMultiplyAdds() const = 0;
   virtual void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) = 0;
   virtual double get(int what, size_t node, int c) const = 0;  // 0 u, 1 v
   virtual void set(int what, size_t node, int c, double value) = 0;
@@ -96,7 +44,9 @@ struct ImplT : Solver::Impl {
   int threads = 1;
   Real dt = 0, beta = 0, e_filter = 0;
   std::vector<Real> u[3], v[3], vf[3], w[3], f[3], va[3], vb[3];
-  std::vector<Real> ke;  // nz * 576
+  std::unique_ptr<StiffnessKernel<Real>> kernel;
+  std::vector<std::unique_ptr<SolverUnit<Real>>> units;
+  StepContext<Real> ctx;
 
   void init(const StructuredMesh& m, const SolverOptions& o, double dt_s, const std::vector<double>& mass,
             const std::vector<double> c[3]) override {
@@ -128,33 +78,36 @@ struct ImplT : Solver::Impl {
         vb[d][i] = fixed ? Real(0) : static_cast<Real>(1.0 / (a + 0.5 * c[d][i]));
       }
     }
-    ke.resize(m.nz * 576);
-    for (size_t k = 0; k < m.nz; ++k) {
-      const Material& mat = m.levelMaterial(k);
-      const auto kd = boxElementStiffness(m.hx, m.hy, m.z[k + 1] - m.z[k], mat.lambda(), mat.shearModulus());
-      for (size_t q = 0; q < 576; ++q) ke[k * 576 + q] = static_cast<Real>(kd[q]);
+    ctx.mesh = &m;
+    ctx.mass = &mass;
+    ctx.dt = dt;
+    ctx.beta = beta;
+    ctx.filter_decay = e_filter;
+    ctx.threads = threads;
+    ctx.fields.node_count = n;
+    for (int d = 0; d < 3; ++d) {
+      ctx.fields.u[d] = u[d].data();
+      ctx.fields.v[d] = v[d].data();
+      ctx.fields.vf[d] = vf[d].data();
+      ctx.fields.w[d] = w[d].data();
+      ctx.fields.f[d] = f[d].data();
+      ctx.fields.va[d] = va[d].data();
+      ctx.fields.vb[d] = vb[d].data();
     }
   }
 
-  // f -= K in, over all elements, OpenMP over depth slabs (two phases: no write conflicts).
-  void applyK(const Real* const in[3], Real* const out[3]) {
-    const size_t nz = mesh->nz, nx = mesh->nx, ny = mesh->ny;
-    const int t_eff = static_cast<int>(std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(threads), nz / 2)));
-#pragma omp parallel num_threads(t_eff) if (t_eff > 1 && nx * ny * nz >= kMinParallelElements)
-    {
-      const size_t t = static_cast<size_t>(omp_get_thread_num());
-      const size_t nt = static_cast<size_t>(omp_get_num_threads());
-      const size_t k0 = nz * t / nt, k1 = nz * (t + 1) / nt;
-      for (size_t k = k0; k + 1 < k1; ++k) levelKernel(&ke[k * 576], in, out, nx, sx, sxy, k, 0, ny);
-#pragma omp barrier
-      if (k1 > k0) levelKernel(&ke[(k1 - 1) * 576], in, out, nx, sx, sxy, k1 - 1, 0, ny);
-    }
+  void setKernel(KernelKind kind, const ElementBox& box) override {
+    kernel = makeStiffnessKernel<Real>(kind, *mesh, box, threads);
   }
+  void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) override;
+
+  double kernelMultiplyAdds() const override { return kernel->multiplyAddsPerApply(); }
 
   void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) override {
     const Real* in[3] = {w[0].data(), w[1].data(), w[2].data()};
     Real* out[3] = {f[0].data(), f[1].data(), f[2].data()};
-    applyK(in, out);
+    kernel->apply(in, out);
+    for (auto& unit : units) unit->addForces(ctx);
     for (size_t c = 0; c < ch.size(); ++c) {
       const double val = values[c];
       if (val == 0.0) continue;
@@ -162,8 +115,16 @@ struct ImplT : Solver::Impl {
         f[ch[c].components[q]][ch[c].nodes[q]] += static_cast<Real>(ch[c].weights[q] * val);
       }
     }
+    for (auto& unit : units) unit->readForces(ctx);
+    updateNodes();
+    for (auto& unit : units) unit->afterUpdate(ctx);
+    ++ctx.step;
+  }
+
+  // Central difference with the diagonal damping semi-implicit; the damping filter; f cleared.
+  void updateNodes() {
     const Real one_e = Real(1) - e_filter;
-#pragma omp parallel num_threads(threads) if (threads > 1 && n >= kMinParallelElements)
+#pragma omp parallel num_threads(threads) if (threads > 1 && n >= kMinParallelNodes)
     for (int d = 0; d < 3; ++d) {
       Real* __restrict ud = u[d].data();
       Real* __restrict vd = v[d].data();
@@ -202,7 +163,7 @@ struct ImplT : Solver::Impl {
     for (auto& t : tmp) t.assign(n, 0);
     const Real* in[3] = {u[0].data(), u[1].data(), u[2].data()};
     Real* out[3] = {tmp[0].data(), tmp[1].data(), tmp[2].data()};
-    applyK(in, out);
+    kernel->apply(in, out);
     out_f.resize(3 * n);
     for (size_t i = 0; i < n; ++i) {
       for (int d = 0; d < 3; ++d) out_f[3 * i + static_cast<size_t>(d)] = static_cast<double>(tmp[d][i]);
@@ -216,6 +177,15 @@ struct ImplT : Solver::Impl {
     return e;
   }
 };
+
+template <>
+void ImplT<float>::addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) {
+  if (auto unit = boundary.makeUnitFloat(bc)) units.push_back(std::move(unit));
+}
+template <>
+void ImplT<double>::addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) {
+  if (auto unit = boundary.makeUnitDouble(bc)) units.push_back(std::move(unit));
+}
 
 }  // namespace
 
@@ -240,7 +210,27 @@ static std::vector<double> lumpedMass(const StructuredMesh& m) {
 
 Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::move(mesh)), options_(options) {
   if (mesh_.nx == 0 || mesh_.ny == 0 || mesh_.nz == 0) throw std::invalid_argument("soil solver: empty mesh");
-  // Stability: Irons' element bound on lambda_max(M^-1 K).
+  boundary_ = makeSoilBoundary(options_.boundary);
+  extra_ = std::make_unique<SolverExtra>();
+  extra_->mass = lumpedMass(mesh_);
+  const BoundaryContext bc{&mesh_, &extra_->mass, options_.absorbing};
+  kernel_box_ = boundary_->kernelElements(bc);
+  computeStabilityLimits();
+  chooseStep();
+  const std::array<std::vector<double>, 3> c = diagonalDamping();
+  if (options_.precision == Precision::Float) {
+    impl_ = std::make_unique<ImplT<float>>();
+  } else {
+    impl_ = std::make_unique<ImplT<double>>();
+  }
+  impl_->init(mesh_, options_, dt_, extra_->mass, c.data());
+  impl_->setKernel(options_.kernel, kernel_box_);
+  impl_->addUnit(*boundary_, bc);
+}
+
+// Irons' element bound on lambda_max(M^-1 K) gives the undamped limit; the filtered Rayleigh damping and
+// the boundary may lower it.
+void Solver::computeStabilityLimits() {
   double lam = 0.0;
   for (size_t k = 0; k < mesh_.nz; ++k) {
     lam =
@@ -250,97 +240,41 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::m
   dt_undamped_ = 2.0 / omega_max;
   const double beta = options_.rayleigh_beta_s;
   const double omega_c = 2.0 * M_PI * options_.damping_cutoff_hz;
-  dt_damped_ = dt_undamped_ / std::sqrt(1.0 + beta * omega_c);
+  const BoundaryContext bc{&mesh_, &extra_->mass, options_.absorbing};
+  dt_damped_ = std::min(dt_undamped_ / std::sqrt(1.0 + beta * omega_c), boundary_->stableStepLimitS(bc));
   const double xi = beta * omega_max / 2.0;
   dt_naive_ = dt_undamped_ * (std::sqrt(1.0 + xi * xi) - xi);
+}
+
+// The requested step if it is stable, else the safety fraction of the limit, aligned to the output rate.
+void Solver::chooseStep() {
   if (options_.dt_s > 0.0) {
     if (options_.dt_s > dt_damped_) {
       throw std::invalid_argument("soil solver: dt " + std::to_string(options_.dt_s) + " s above the stability limit " +
                                   std::to_string(dt_damped_) + " s");
     }
     dt_ = options_.dt_s;
-  } else {
-    dt_ = options_.safety_factor * dt_damped_;
-    if (options_.align_rate_hz > 0.0) {
-      const double m = std::ceil(1.0 / (dt_ * options_.align_rate_hz) - 1e-9);
-      dt_ = 1.0 / (m * options_.align_rate_hz);
-    }
+    return;
   }
-  extra_ = std::make_unique<SolverExtra>();
-  extra_->mass = lumpedMass(mesh_);
+  dt_ = options_.safety_factor * dt_damped_;
+  if (options_.align_rate_hz > 0.0) {
+    const double m = std::ceil(1.0 / (dt_ * options_.align_rate_hz) - 1e-9);
+    dt_ = 1.0 / (m * options_.align_rate_hz);
+  }
+}
 
-  // Diagonal damping: Lysmer-Kuhlemeyer dashpots on absorbing faces + absorbing layer.
-  std::vector<double> c[3];
+// Diagonal damping per node and component: the boundary's, then a uniform mass-proportional part.
+std::array<std::vector<double>, 3> Solver::diagonalDamping() const {
+  std::array<std::vector<double>, 3> c;
   for (auto& cc : c) cc.assign(mesh_.nodeCount(), 0.0);
-  const StructuredMesh& m = mesh_;
-  auto face = [&](size_t n0, size_t n1, size_t n2, size_t n3, double area, const Material& mat, int normal) {
-    const double cn = mat.density_kg_m3 * mat.vp() * area / 4.0;
-    const double ct = mat.density_kg_m3 * mat.vs() * area / 4.0;
-    for (size_t nd : {n0, n1, n2, n3}) {
-      for (int d = 0; d < 3; ++d) c[d][nd] += (d == normal) ? cn : ct;
-    }
-  };
-  for (size_t k = 0; k < m.nz; ++k) {
-    const double hz = m.z[k + 1] - m.z[k];
-    const Material& mat = m.levelMaterial(k);
-    for (size_t j = 0; j < m.ny; ++j) {
-      if (options_.absorb_x_min)
-        face(m.node(0, j, k), m.node(0, j + 1, k), m.node(0, j, k + 1), m.node(0, j + 1, k + 1), m.hy * hz, mat, 0);
-      if (options_.absorb_x_max)
-        face(m.node(m.nx, j, k), m.node(m.nx, j + 1, k), m.node(m.nx, j, k + 1), m.node(m.nx, j + 1, k + 1), m.hy * hz,
-             mat, 0);
-    }
-    for (size_t i = 0; i < m.nx; ++i) {
-      if (options_.absorb_y_min)
-        face(m.node(i, 0, k), m.node(i + 1, 0, k), m.node(i, 0, k + 1), m.node(i + 1, 0, k + 1), m.hx * hz, mat, 1);
-      if (options_.absorb_y_max)
-        face(m.node(i, m.ny, k), m.node(i + 1, m.ny, k), m.node(i, m.ny, k + 1), m.node(i + 1, m.ny, k + 1), m.hx * hz,
-             mat, 1);
-    }
-  }
-  if (options_.absorb_bottom) {
-    const size_t k = m.nz;
-    const Material& mat = m.levelMaterial(m.nz - 1);
-    for (size_t j = 0; j < m.ny; ++j) {
-      for (size_t i = 0; i < m.nx; ++i)
-        face(m.node(i, j, k), m.node(i + 1, j, k), m.node(i, j + 1, k), m.node(i + 1, j + 1, k), m.hx * m.hy, mat, 2);
-    }
-  }
-  if (options_.absorbing_layer_m > 0.0 && options_.absorbing_layer_alpha_1_s > 0.0) {
-    const double L = options_.absorbing_layer_m;
-    for (size_t k = 0; k <= m.nz; ++k) {
-      for (size_t j = 0; j <= m.ny; ++j) {
-        for (size_t i = 0; i <= m.nx; ++i) {
-          double s = 0.0;
-          auto pen = [&](bool on, double dist) {
-            if (on && dist < L) s = std::max(s, (L - dist) / L);
-          };
-          pen(options_.absorb_x_min, m.x(i) - m.x0);
-          pen(options_.absorb_x_max, m.xMax() - m.x(i));
-          pen(options_.absorb_y_min, m.y(j) - m.y0);
-          pen(options_.absorb_y_max, m.yMax() - m.y(j));
-          pen(options_.absorb_bottom && options_.absorbing_layer_bottom, m.depth() - m.z[k]);
-          if (s > 0.0) {
-            const size_t nd = m.node(i, j, k);
-            const double add =
-                options_.absorbing_layer_alpha_1_s * std::pow(s, options_.absorbing_layer_exponent) * extra_->mass[nd];
-            for (int d = 0; d < 3; ++d) c[d][nd] += add;
-          }
-        }
-      }
-    }
-  }
+  const BoundaryContext bc{&mesh_, &extra_->mass, options_.absorbing};
+  boundary_->addNodalDamping(bc, c.data());
   if (options_.mass_damping_1_s > 0.0) {
-    for (size_t nd = 0; nd < m.nodeCount(); ++nd) {
+    for (size_t nd = 0; nd < mesh_.nodeCount(); ++nd) {
       for (int d = 0; d < 3; ++d) c[d][nd] += options_.mass_damping_1_s * extra_->mass[nd];
     }
   }
-  if (options_.precision == Precision::Float) {
-    impl_ = std::make_unique<ImplT<float>>();
-  } else {
-    impl_ = std::make_unique<ImplT<double>>();
-  }
-  impl_->init(mesh_, options_, dt_, extra_->mass, c);
+  return c;
 }
 
 Solver::~Solver() = default;
@@ -361,11 +295,11 @@ void Solver::setChannelValues(const std::vector<double>& values) {
 }
 
 void Solver::step() {
-  const double t0 = omp_get_wtime();
   impl_->step(extra_->channels, extra_->values);
-  kernel_s_ += omp_get_wtime() - t0;
   ++steps_;
 }
+
+double Solver::kernelMultiplyAddsPerStep() const { return impl_->kernelMultiplyAdds(); }
 
 void Solver::run(uint64_t n) {
   for (uint64_t s = 0; s < n; ++s) step();

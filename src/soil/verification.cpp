@@ -36,8 +36,8 @@ ColumnRun columnRun(const ColumnSpec& s, bool pulse, double t_end) {
   for (size_t k = 0; k <= nz; ++k) z[k] = s.dz_m * static_cast<double>(k);
   StructuredMesh mesh = buildUniformMesh(1, 1, s.dz_m, s.dz_m, z, std::vector<Material>(nz, s.material));
   SolverOptions o;
-  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = false;
-  o.absorb_bottom = true;
+  o.absorbing.x_min = o.absorbing.x_max = o.absorbing.y_min = o.absorbing.y_max = false;
+  o.absorbing.bottom = true;
   o.lateral_rollers = true;
   o.precision = s.precision;
   o.threads = 1;
@@ -123,7 +123,7 @@ namespace {
 void lowestFreeMode(const Material& mat, double h, double& lambda, std::vector<double>& shape) {
   std::vector<double> z = {0.0, h, 2.0 * h};
   SolverOptions o;
-  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = o.absorb_bottom = false;
+  o.absorbing = {false, false, false, false, false};
   o.precision = Precision::Double;
   o.threads = 1;
   Solver probe(buildUniformMesh(2, 2, h, h, z, {mat, mat}), o);
@@ -164,7 +164,7 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
   const double h = f1 / f_hz;  // frequencies scale as 1 / h
   std::vector<double> z = {0.0, h, 2.0 * h};
   SolverOptions o;
-  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = o.absorb_bottom = false;
+  o.absorbing = {false, false, false, false, false};
   o.rayleigh_beta_s = beta_s;
   o.damping_cutoff_hz = cutoff_hz;
   o.precision = precision;

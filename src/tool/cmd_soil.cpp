@@ -184,9 +184,9 @@ int soilBench(const std::vector<std::string>& args) {
     spec.window_s = (2.0 * spec.reference_half_width_m - spec.distances_m.back()) / 200.0;
     std::vector<ReflectionCase> cases{ReflectionCase{}};
     const SolverOptions& so = sp.solver;
-    if (so.absorbing_layer_m > 0.0 && so.absorbing_layer_alpha_1_s > 0.0) {
-      const ReflectionCase configured{so.absorbing_layer_m, so.absorbing_layer_alpha_1_s, so.absorbing_layer_exponent,
-                                      so.absorbing_layer_bottom};
+    if (so.boundary.method == BoundaryMethod::GradedLayer) {
+      const GradedLayerSpec& g = so.boundary.graded_layer;
+      const ReflectionCase configured{g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom};
       cases.push_back(configured);
       cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
     }

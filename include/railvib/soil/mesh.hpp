@@ -82,6 +82,28 @@ struct StructuredMesh {
   const Material& levelMaterial(size_t k) const { return materials[level_material[k]]; }
 };
 
+/// A box of elements [i0, i1) x [j0, j1) x [k0, k1) of a StructuredMesh (levels k
+/// counted down from the surface), e.g. the elements a stiffness kernel integrates.
+struct ElementBox {
+  size_t i0 = 0, i1 = 0, j0 = 0, j1 = 0, k0 = 0, k1 = 0;
+
+  static ElementBox all(const StructuredMesh& m) { return {0, m.nx, 0, m.ny, 0, m.nz}; }
+  bool empty() const { return i1 <= i0 || j1 <= j0 || k1 <= k0; }
+  size_t count() const { return empty() ? 0 : (i1 - i0) * (j1 - j0) * (k1 - k0); }
+  bool contains(size_t i, size_t j, size_t k) const {
+    return i >= i0 && i < i1 && j >= j0 && j < j1 && k >= k0 && k < k1;
+  }
+  bool operator==(const ElementBox& o) const {
+    return i0 == o.i0 && i1 == o.i1 && j0 == o.j0 && j1 == o.j1 && k0 == o.k0 && k1 == o.k1;
+  }
+  /// The common part of two boxes (empty if they do not overlap).
+  ElementBox intersect(const ElementBox& o) const {
+    auto mx = [](size_t a, size_t b) { return a > b ? a : b; };
+    auto mn = [](size_t a, size_t b) { return a < b ? a : b; };
+    return {mx(i0, o.i0), mn(i1, o.i1), mx(j0, o.j0), mn(j1, o.j1), mx(k0, o.k0), mn(k1, o.k1)};
+  }
+};
+
 /// Build the graded mesh. Throws std::invalid_argument on an impossible spec
 /// (non-positive sizes, layers thinner than zero, ...).
 StructuredMesh buildMesh(const std::vector<Layer>& profile, const MeshSpec& spec);

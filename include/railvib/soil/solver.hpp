@@ -3,13 +3,14 @@
 // Scheme (lumped mass M, central difference in velocity form, internal frame
 // x, y, d = depth down):
 //   w_n       = u_n + beta * vf_n                    (damped "effective" field)
-//   f_n       = f_ext(t_n) - K w_n                   (matrix-free, per-level 24x24)
+//   f_n       = f_ext(t_n) - K w_n                   (matrix-free stiffness kernel, kernel.hpp)
 //   v_{n+1/2} = ((M/dt - C/2) v_{n-1/2} + f_n) / (M/dt + C/2)   (C diagonal)
 //   u_{n+1}   = u_n + dt v_{n+1/2}
 //   vf_{n+1}  = e vf_n + (1 - e) v_{n+1/2},  e = exp(-omega_c dt)
-// C holds the Lysmer-Kuhlemeyer dashpots (rho Vp A normal, rho Vs A
-// tangential) and the mass-proportional damping of an optional absorbing
-// layer; it is treated semi-implicitly (no step limit). The stiffness-
+// C is the diagonal damping of the boundary (Lysmer-Kuhlemeyer dashpots, a
+// graded mass-proportional layer; boundary.hpp); it is treated semi-
+// implicitly (no step limit). Boundaries that need more (a PML) and structures
+// attached to the soil plug in as units (solver_unit.hpp). The stiffness-
 // proportional Rayleigh damping beta K v is applied to a one-pole low-passed
 // velocity vf (cut-off omega_c above the band of interest): the damping ratio
 // is beta omega / 2 / (1 + (omega/omega_c)^2) in the band, and above omega_c
@@ -19,12 +20,15 @@
 // See docs/soil.md.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "railvib/soil/boundary.hpp"
+#include "railvib/soil/kernel.hpp"
 #include "railvib/soil/mesh.hpp"
 
 namespace railvib::soil {
@@ -34,16 +38,12 @@ enum class Precision { Float, Double };
 struct SolverExtra;
 
 struct SolverOptions {
-  /// Lysmer-Kuhlemeyer dashpots on x_min, x_max, y_min, y_max faces and the bottom.
-  bool absorb_x_min = true, absorb_x_max = true, absorb_y_min = true, absorb_y_max = true, absorb_bottom = true;
-  /// Mass-proportional absorbing layer along absorbing faces (0 = off): thickness
-  /// and the damping coefficient alpha (1/s) at the outer face, growing as
-  /// (s/L)^exponent with s the penetration into the layer.
-  double absorbing_layer_m = 0.0;
-  double absorbing_layer_alpha_1_s = 0.0;
-  double absorbing_layer_exponent = 2.0;
-  /// Whether the layer also runs along the bottom (else sides only; the bottom keeps its dashpots).
-  bool absorbing_layer_bottom = true;
+  /// Faces that absorb (the others reflect, e.g. symmetry planes); the top is the free surface.
+  AbsorbingFaces absorbing;
+  /// Non-reflecting boundary on the absorbing faces (boundary.hpp).
+  BoundarySpec boundary;
+  /// Stiffness kernel (kernel.hpp).
+  KernelKind kernel = KernelKind::Element;
   /// Constrain u_x = u_y = 0 everywhere (1D column tests).
   bool lateral_rollers = false;
   /// Symmetry planes (u_x = 0 on x = x_min, u_y = 0 on y = y_min), e.g. quarter models.
@@ -118,25 +118,35 @@ class Solver {
   /// Vertical (down) half-step velocity of every surface node, (nx+1)(ny+1) values, i fastest.
   void surfaceVelocityD(std::vector<double>& out) const;
 
-  /// Internal force -K u for the current displacement (tests: equilibrium, eigen).
+  /// Internal force -K u of the kernel's elements for the current displacement (tests: equilibrium, eigen).
   void internalForce(std::vector<double>& f_out) const;
   /// Lumped nodal mass.
   double nodalMass(size_t node) const;
   /// Sum over the mesh of kinetic energy with the half-step velocity.
   double kineticEnergy() const;
 
-  /// Measured throughput helpers: element updates done so far and kernel seconds.
-  double kernelSeconds() const { return kernel_s_; }
+  /// The boundary and the stiffness kernel in use.
+  const SoilBoundary& boundary() const { return *boundary_; }
+  KernelKind kernel() const { return options_.kernel; }
+  /// Elements the stiffness kernel integrates (the boundary integrates the others).
+  const ElementBox& kernelElements() const { return kernel_box_; }
+  /// Multiply-adds of the stiffness kernel per step.
+  double kernelMultiplyAddsPerStep() const;
 
   struct Impl;
 
  private:
+  void computeStabilityLimits();
+  void chooseStep();
+  std::array<std::vector<double>, 3> diagonalDamping() const;
+
   std::unique_ptr<SolverExtra> extra_;
   StructuredMesh mesh_;
   SolverOptions options_;
+  std::unique_ptr<SoilBoundary> boundary_;
+  ElementBox kernel_box_;
   double dt_ = 0.0, dt_undamped_ = 0.0, dt_damped_ = 0.0, dt_naive_ = 0.0;
   uint64_t steps_ = 0;
-  double kernel_s_ = 0.0;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -26,7 +26,7 @@ inline std::string smallScenario(const std::string& layer1 =
          " y_max_m: 4.0, depth_m: 4.0" +
          mesh_extra +
          "}\n"
-         "  boundary: {lysmer_dashpots: true}\n"
+         "  boundary: {method: dashpots}\n"
          "  loads: {outside_mesh: drop}\n"
          "  output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0}\n"
          "track:\n"

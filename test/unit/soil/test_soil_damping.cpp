@@ -26,7 +26,7 @@ TEST(SoilDamping, StepStaysNearUndampedLimitAndIsStable) {
   SolverOptions o;
   o.rayleigh_beta_s = 4e-4;
   o.damping_cutoff_hz = 300.0;
-  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = o.absorb_bottom = false;
+  o.absorbing = {false, false, false, false, false};
   Solver s(buildUniformMesh(6, 6, 0.3, 0.3, {0.0, 0.667, 1.333, 2.0}, {hs, hs, hs}), o);
   // Filtered damping: dt / dt_undamped = 1 / sqrt(1 + beta omega_c) = 0.755; naive: ~ 0.2.
   EXPECT_NEAR(s.dtDamped() / s.dtUndamped(), 1.0 / std::sqrt(1.0 + 4e-4 * 2 * M_PI * 300.0), 1e-12);

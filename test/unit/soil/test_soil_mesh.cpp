@@ -112,7 +112,7 @@ TEST(SoilMesh, StaticSurfaceLoadReactionEqualsApplied) {
   // the base reaction (internal forces on the fixed nodes) balances the load.
   const Material a{61e6, 1876, 0.13};
   SolverOptions o;
-  o.absorb_x_min = o.absorb_x_max = o.absorb_y_min = o.absorb_y_max = o.absorb_bottom = false;
+  o.absorbing = {false, false, false, false, false};
   o.fixed_bottom = true;
   o.mass_damping_1_s = 150.0;
   o.precision = Precision::Double;

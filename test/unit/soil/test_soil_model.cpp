@@ -47,11 +47,10 @@ TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
                     "receiver 'far'");
   // Receiver s2 (y = 2 m) 2 m from the y_max face of the +-4 m box: inside a 3 m absorbing layer.
   std::string layered = smallScenario();
-  const std::string bnd = "boundary: {lysmer_dashpots: true}";
+  const std::string bnd = "boundary: {method: dashpots}";
   layered.replace(layered.find(bnd), bnd.size(),
-                  "boundary: {lysmer_dashpots: true, absorbing_layer_thickness_m: 3.0, "
-                  "absorbing_layer_max_alpha_1_s: 60.0}");
-  expectConfigError(layered, "inside the 3 m absorbing layer");
+                  "boundary: {method: graded_layer, graded_layer: {thickness_m: 3.0, max_alpha_1_s: 60.0}}");
+  expectConfigError(layered, "inside the 3 m absorbing zone");
   // 2 km box at 100 Hz: hundreds of GB.
   std::string big = smallScenario();
   const std::string box = "x_min_m: -4.0, x_max_m: 4.0, y_min_m: -4.0, y_max_m: 4.0, depth_m: 4.0";

@@ -81,10 +81,8 @@ RunResult run(int threads, Precision precision) {
   o.threads = threads;
   o.precision = precision;
   o.rayleigh_beta_s = 4.0e-4;  // exercise the damping filter path too
-  o.absorbing_layer_m = 2.0;   // and the absorbing layer (sides, not the bottom)
-  o.absorbing_layer_alpha_1_s = 60.0;
-  o.absorbing_layer_exponent = 1.0;
-  o.absorbing_layer_bottom = false;
+  o.boundary.method = BoundaryMethod::GradedLayer;  // and the absorbing layer (sides, not the bottom)
+  o.boundary.graded_layer = {2.0, 60.0, 1.0, false};
   Solver s(layeredMesh(), o);
   const StructuredMesh& m = s.mesh();
   for (size_t p = 0; p < 2; ++p) {

@@ -1,0 +1,49 @@
+// railvib/soil: stiffness kernels, the one hot loop of the explicit solver.
+//
+// A kernel adds f -= K_box w, the internal force of the elements of one
+// ElementBox of a StructuredMesh acting on a nodal field w (structure of
+// arrays, one array per component), to the nodes of those elements. The
+// element stiffness depends only on the element level k (box elements,
+// uniform in x and y), so a kernel keeps one 24 x 24 matrix per level.
+// Kernels own their threading and must be deterministic for a given thread
+// count. Boundaries and attached structures never change a kernel: elements
+// outside the box (e.g. a PML layer) are integrated by their unit
+// (solver_unit.hpp).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "railvib/soil/mesh.hpp"
+
+namespace railvib::soil {
+
+enum class KernelKind {
+  /// Element by element: per element a 24 x 24 product, then a scatter to its 8 nodes.
+  Element,
+  /// Node by node: the assembled operator as a 27-point stencil of 3 x 3 blocks.
+  Stencil,
+};
+
+std::string kernelName(KernelKind kind);
+/// "element" | "stencil"; throws std::invalid_argument otherwise.
+KernelKind kernelFromName(const std::string& name);
+
+template <class Real>
+class StiffnessKernel {
+ public:
+  virtual ~StiffnessKernel() = default;
+  /// f -= K_box w. in/out: 3 component arrays of StructuredMesh::nodeCount() values.
+  virtual void apply(const Real* const in[3], Real* const out[3]) const = 0;
+  /// Multiply-adds per application (for the throughput figures).
+  virtual double multiplyAddsPerApply() const = 0;
+  virtual KernelKind kind() const = 0;
+};
+
+/// The kernel of `kind` for the elements of `box` of `mesh` (which must outlive it), with
+/// at most `threads` OpenMP threads.
+template <class Real>
+std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, const StructuredMesh& mesh,
+                                                           const ElementBox& box, int threads);
+
+}  // namespace railvib::soil
