@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "rigid_body_unit.hpp"
+
 namespace railvib::soil {
 
 namespace {
@@ -28,6 +30,10 @@ struct Solver::Impl {
   virtual void setKernel(KernelKind kind, const ElementBox& box) = 0;
   virtual void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) = 0;
   virtual double kernelMultiplyAdds() const = 0;
+  virtual size_t attachRigidBody(const RigidBodySpec& spec, const std::vector<double>& mass) = 0;
+  virtual const RigidBodyState& rigidBody(size_t i) const = 0;
+  virtual size_t rigidBodyCount() const = 0;
+  virtual double unitEnergy() const = 0;
   virtual void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) = 0;
   virtual double get(int what, size_t node, int c) const = 0;  // 0 u, 1 v
   virtual void set(int what, size_t node, int c, double value) = 0;
@@ -46,6 +52,7 @@ struct ImplT : Solver::Impl {
   std::vector<Real> u[3], v[3], vf[3], w[3], f[3], va[3], vb[3];
   std::unique_ptr<StiffnessKernel<Real>> kernel;
   std::vector<std::unique_ptr<SolverUnit<Real>>> units;
+  std::vector<const RigidBodyUnit<Real>*> bodies;
   StepContext<Real> ctx;
 
   void init(const StructuredMesh& m, const SolverOptions& o, double dt_s, const std::vector<double>& mass,
@@ -102,6 +109,22 @@ struct ImplT : Solver::Impl {
   void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) override;
 
   double kernelMultiplyAdds() const override { return kernel->multiplyAddsPerApply(); }
+
+  size_t attachRigidBody(const RigidBodySpec& spec, const std::vector<double>& mass) override {
+    if (ctx.step != 0) throw std::logic_error("soil solver: attach rigid bodies before the first step");
+    auto unit = std::make_unique<RigidBodyUnit<Real>>(*mesh, mass, spec, static_cast<double>(dt),
+                                                      static_cast<double>(e_filter), static_cast<double>(beta));
+    bodies.push_back(unit.get());
+    units.push_back(std::move(unit));
+    return bodies.size() - 1;
+  }
+  const RigidBodyState& rigidBody(size_t i) const override { return bodies.at(i)->core().state(); }
+  size_t rigidBodyCount() const override { return bodies.size(); }
+  double unitEnergy() const override {
+    double e = 0.0;
+    for (const auto& unit : units) e += unit->energy(ctx);
+    return e;
+  }
 
   void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) override {
     const Real* in[3] = {w[0].data(), w[1].data(), w[2].data()};
@@ -300,6 +323,11 @@ void Solver::step() {
 }
 
 double Solver::kernelMultiplyAddsPerStep() const { return impl_->kernelMultiplyAdds(); }
+
+size_t Solver::attachRigidBody(const RigidBodySpec& spec) { return impl_->attachRigidBody(spec, extra_->mass); }
+size_t Solver::rigidBodyCount() const { return impl_->rigidBodyCount(); }
+const RigidBodyState& Solver::rigidBody(size_t index) const { return impl_->rigidBody(index); }
+double Solver::unitEnergy() const { return impl_->unitEnergy(); }
 
 void Solver::run(uint64_t n) {
   for (uint64_t s = 0; s < n; ++s) step();

@@ -30,6 +30,7 @@
 #include "railvib/soil/boundary.hpp"
 #include "railvib/soil/kernel.hpp"
 #include "railvib/soil/mesh.hpp"
+#include "railvib/soil/rigid_body.hpp"
 
 namespace railvib::soil {
 
@@ -96,6 +97,15 @@ class Solver {
   uint64_t stepCount() const { return steps_; }
   double time() const { return dt_ * static_cast<double>(steps_); }
   size_t memoryBytes() const;
+
+  /// Attach a rigid body carried by the soil nodes of its region, with its reduced superstructure
+  /// (rigid_body.hpp), before the first step; returns its index. Throws std::invalid_argument.
+  size_t attachRigidBody(const RigidBodySpec& spec);
+  size_t rigidBodyCount() const;
+  /// State after the last step.
+  const RigidBodyState& rigidBody(size_t index) const;
+  /// Energy the units hold outside the nodal fields (a superstructure's own DOFs), J.
+  double unitEnergy() const;
 
   /// Register a load channel; returns its index.
   size_t addForceChannel(ForceChannel channel);

@@ -1,0 +1,93 @@
+// railvib/soil (internal): the rigid body as a solver unit. RigidBodyCore holds the body and its
+// reduced superstructure in double precision; RigidBodyUnit<Real> moves forces and motions between
+// it and the solver's nodal fields.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "railvib/soil/mesh.hpp"
+#include "railvib/soil/rigid_body.hpp"
+#include "railvib/soil/solver_unit.hpp"
+
+namespace railvib::soil {
+
+class RigidBodyCore {
+ public:
+  RigidBodyCore(const StructuredMesh& mesh, const std::vector<double>& mass, const RigidBodySpec& spec, double dt_s,
+                double filter_decay, double beta_s);
+
+  const std::vector<size_t>& nodes() const { return nodes_; }
+  const std::vector<Eigen::Vector3d>& offsets() const { return offsets_; }
+  /// Generalised soil force F_n = sum_a (f_a, r_a x f_a) for this step.
+  void setForce(const Eigen::Matrix<double, 6, 1>& force);
+  /// One central-difference step of the body and its modes.
+  void advance();
+  /// u + w x r_a of a rigid 6-vector at carried node a.
+  Eigen::Vector3d nodeValue(const Eigen::Matrix<double, 6, 1>& q, size_t a) const;
+  Eigen::Matrix<double, 6, 1> displacement() const { return x_.head<6>(); }
+  Eigen::Matrix<double, 6, 1> velocity() const { return v_.head<6>(); }
+  Eigen::Matrix<double, 6, 1> filteredVelocity() const { return vf_; }
+  double beta() const { return beta_; }
+  double energy() const;
+  const RigidBodyState& state() const { return state_; }
+  const RigidBodySpec& spec() const { return spec_; }
+
+ private:
+  RigidBodySpec spec_;
+  double dt_, e_, beta_;
+  std::vector<size_t> nodes_;
+  std::vector<Eigen::Vector3d> offsets_;
+  std::vector<int> active_;  // DOFs not held
+  Eigen::MatrixXd a_inv_, a_inv_b_;
+  Eigen::MatrixXd extra_mass_;  // coupled mass matrix minus the carried soil nodes' part
+  Eigen::VectorXd omega2_;      // modal stiffness (0 for the rigid DOFs)
+  Eigen::VectorXd x_, v_, vf_, force_;
+  Eigen::Matrix<double, 6, 1> soil_force_ = Eigen::Matrix<double, 6, 1>::Zero();
+  RigidBodyState state_;
+};
+
+template <class Real>
+class RigidBodyUnit final : public SolverUnit<Real> {
+ public:
+  RigidBodyUnit(const StructuredMesh& mesh, const std::vector<double>& mass, const RigidBodySpec& spec, double dt_s,
+                double filter_decay, double beta_s)
+      : core_(mesh, mass, spec, dt_s, filter_decay, beta_s) {}
+
+  void readForces(const StepContext<Real>& ctx) override {
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    const auto& nodes = core_.nodes();
+    for (size_t a = 0; a < nodes.size(); ++a) {
+      const size_t n = nodes[a];
+      const Eigen::Vector3d f(static_cast<double>(ctx.fields.f[0][n]), static_cast<double>(ctx.fields.f[1][n]),
+                              static_cast<double>(ctx.fields.f[2][n]));
+      g.head<3>() += f;
+      g.tail<3>() += core_.offsets()[a].cross(f);
+    }
+    core_.setForce(g);
+  }
+
+  void afterUpdate(StepContext<Real>& ctx) override {
+    core_.advance();
+    const Eigen::Matrix<double, 6, 1> u = core_.displacement(), v = core_.velocity(), vf = core_.filteredVelocity();
+    const auto& nodes = core_.nodes();
+    for (size_t a = 0; a < nodes.size(); ++a) {
+      const size_t n = nodes[a];
+      const Eigen::Vector3d ua = core_.nodeValue(u, a), va = core_.nodeValue(v, a), vfa = core_.nodeValue(vf, a);
+      for (int c = 0; c < 3; ++c) {
+        ctx.fields.u[c][n] = static_cast<Real>(ua[c]);
+        ctx.fields.v[c][n] = static_cast<Real>(va[c]);
+        ctx.fields.vf[c][n] = static_cast<Real>(vfa[c]);
+        ctx.fields.w[c][n] = static_cast<Real>(ua[c] + core_.beta() * vfa[c]);
+      }
+    }
+  }
+
+  double energy(const StepContext<Real>& /*ctx*/) const override { return core_.energy(); }
+  const RigidBodyCore& core() const { return core_; }
+
+ private:
+  RigidBodyCore core_;
+};
+
+}  // namespace railvib::soil
