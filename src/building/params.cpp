@@ -99,6 +99,9 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
   if (b.has("solver")) {
     p.max_time_step_s = b.section("solver").number("max_time_step_s", Range{0.0, 0.01, true, false}, p.max_time_step_s);
   }
+  p.coupling = b.choice("coupling", {"one_way", "two_way"}, "one_way") == "two_way" ? SoilCoupling::TwoWay
+                                                                                   : SoilCoupling::OneWay;
+  p.coupling_modes_max_hz = b.number("coupling_modes_max_hz", Range::nonNegative(), 0.0);
   if (b.has("footprint")) {
     const ConfigNode fp = b.section("footprint");
     p.footprint_nx = static_cast<int>(fp.integer("nx", 2, 100, p.footprint_nx));

@@ -5,14 +5,82 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "railvib/building/reduction.hpp"
+
 namespace railvib::building {
 namespace {
 constexpr double kTwoPi = 6.283185307179586;
+
+// One-way: the foundation DOFs follow the bilinear interpolation in plan of the footprint
+// receivers' motion, with the rotations of that interpolated field.
+void bilinearFootprintMap(const BuildingModel& model, const std::vector<FootprintPoint>& footprint_,
+                          const std::vector<int>& cd, std::vector<Eigen::Triplet<double>>& tp) {
+  const BuildingParams& par = model.params();
+  const int nx = par.footprint_nx, ny = par.footprint_ny;
+  const double x0 = footprint_.front().x_building_m, x1 = footprint_.back().x_building_m;
+  const double y0 = footprint_.front().y_building_m, y1 = footprint_.back().y_building_m;
+  const double dx = (x1 - x0) / (nx - 1), dy = (y1 - y0) / (ny - 1);
+  for (size_t r = 0; r < cd.size(); ++r) {
+    const int node = cd[r] / 6, comp = cd[r] % 6;
+    const Eigen::Vector3d& x = model.mesh().nodes[node];
+    const int ix = std::clamp(static_cast<int>(std::floor((x.x() - x0) / dx)), 0, nx - 2);
+    const int iy = std::clamp(static_cast<int>(std::floor((x.y() - y0) / dy)), 0, ny - 2);
+    const double sx = (x.x() - x0) / dx - ix, sy = (x.y() - y0) / dy - iy;
+    for (int cx = 0; cx < 2; ++cx) {
+      for (int cy = 0; cy < 2; ++cy) {
+        const int k = (iy + cy) * nx + (ix + cx);
+        const double wx = cx ? sx : 1.0 - sx, wy = cy ? sy : 1.0 - sy;
+        const double w = wx * wy;
+        const double dwdx = (cx ? 1.0 : -1.0) / dx * wy, dwdy = (cy ? 1.0 : -1.0) / dy * wx;
+        switch (comp) {
+          case 0:
+          case 1:
+          case 2:
+            tp.emplace_back(r, 3 * k + comp, w);
+            break;
+          case 3:  // rx = d uz / dy
+            tp.emplace_back(r, 3 * k + 2, dwdy);
+            break;
+          case 4:  // ry = -d uz / dx
+            tp.emplace_back(r, 3 * k + 2, -dwdx);
+            break;
+          default:  // rz = (d uy/dx - d ux/dy) / 2
+            tp.emplace_back(r, 3 * k + 1, 0.5 * dwdx);
+            tp.emplace_back(r, 3 * k + 0, -0.5 * dwdy);
+        }
+      }
+    }
+  }
 }
 
+// Two-way: the foundation is rigid; its 6 DOFs (building frame, about the plan centre at the ground
+// surface) are the least-squares fit of the footprint receivers' motion (exact for a rigid motion).
+void rigidFoundationMap(const BuildingModel& model, const std::vector<int>& cd, Eigen::MatrixXd& fit,
+                        std::vector<Eigen::Triplet<double>>& tp) {
+  const BuildingParams& par = model.params();
+  const Eigen::Vector3d centre(0.5 * par.length_m, 0.5 * par.width_m, 0.0);
+  const std::vector<FootprintPoint> footprint = footprintPoints(par);
+  Eigen::MatrixXd a(3 * static_cast<Eigen::Index>(footprint.size()), 6);
+  for (size_t k = 0; k < footprint.size(); ++k) {
+    const Eigen::Vector3d r = Eigen::Vector3d(footprint[k].x_building_m, footprint[k].y_building_m, 0.0) - centre;
+    a.block<3, 3>(3 * static_cast<Eigen::Index>(k), 0).setIdentity();
+    a.block<3, 3>(3 * static_cast<Eigen::Index>(k), 3) << 0.0, r.z(), -r.y(), -r.z(), 0.0, r.x(), r.y(), -r.x(), 0.0;
+  }
+  fit = (a.transpose() * a).ldlt().solve(a.transpose());
+  const Eigen::MatrixXd r = rigidMotionMap(model, centre);
+  for (size_t q = 0; q < cd.size(); ++q) {
+    for (int c = 0; c < 6; ++c) {
+      if (r(cd[q], c) != 0.0) tp.emplace_back(static_cast<int>(q), c, r(cd[q], c));
+    }
+  }
+}
+
+}  // namespace
+
 struct BuildingResponseSolver::Impl {
-  int nf = 0;  // free DOFs
-  int nq = 0;  // footprint input components
+  int nf = 0;           // free DOFs
+  int nq = 0;           // base motion coordinates: footprint components (one-way) or 6 rigid DOFs (two-way)
+  Eigen::MatrixXd fit;  // two-way: rigid motion (6) from the footprint components (least squares)
   Eigen::SparseMatrix<double> kff;
   Eigen::VectorXd mff;
   Eigen::SparseMatrix<double, Eigen::RowMajor> p;                               // constrained DOF x footprint component
@@ -44,46 +112,16 @@ BuildingResponseSolver::BuildingResponseSolver(const BuildingModel& model, doubl
   const std::vector<int>& fi = model.freeIndex();
   const std::vector<int>& cd = model.constrainedDofs();
   s.nf = static_cast<int>(model.freeDofs().size());
-  s.nq = static_cast<int>(3 * footprint_.size());
+  const bool rigid = par.coupling == SoilCoupling::TwoWay;
+  s.nq = rigid ? 6 : static_cast<int>(3 * footprint_.size());
   s.constrained_row.assign(model.dofCount(), -1);
   for (size_t r = 0; r < cd.size(); ++r) s.constrained_row[cd[r]] = static_cast<int>(r);
 
-  // Interpolation of the footprint motion to the foundation DOFs.
-  const int nx = par.footprint_nx, ny = par.footprint_ny;
-  const double x0 = footprint_.front().x_building_m, x1 = footprint_.back().x_building_m;
-  const double y0 = footprint_.front().y_building_m, y1 = footprint_.back().y_building_m;
-  const double dx = (x1 - x0) / (nx - 1), dy = (y1 - y0) / (ny - 1);
   std::vector<Eigen::Triplet<double>> tp;
-  for (size_t r = 0; r < cd.size(); ++r) {
-    const int node = cd[r] / 6, comp = cd[r] % 6;
-    const Eigen::Vector3d& x = model.mesh().nodes[node];
-    const int ix = std::clamp(static_cast<int>(std::floor((x.x() - x0) / dx)), 0, nx - 2);
-    const int iy = std::clamp(static_cast<int>(std::floor((x.y() - y0) / dy)), 0, ny - 2);
-    const double sx = (x.x() - x0) / dx - ix, sy = (x.y() - y0) / dy - iy;
-    for (int cx = 0; cx < 2; ++cx) {
-      for (int cy = 0; cy < 2; ++cy) {
-        const int k = (iy + cy) * nx + (ix + cx);
-        const double wx = cx ? sx : 1.0 - sx, wy = cy ? sy : 1.0 - sy;
-        const double w = wx * wy;
-        const double dwdx = (cx ? 1.0 : -1.0) / dx * wy, dwdy = (cy ? 1.0 : -1.0) / dy * wx;
-        switch (comp) {
-          case 0:
-          case 1:
-          case 2:
-            tp.emplace_back(r, 3 * k + comp, w);
-            break;
-          case 3:  // rx = d uz / dy
-            tp.emplace_back(r, 3 * k + 2, dwdy);
-            break;
-          case 4:  // ry = -d uz / dx
-            tp.emplace_back(r, 3 * k + 2, -dwdx);
-            break;
-          default:  // rz = (d uy/dx - d ux/dy) / 2
-            tp.emplace_back(r, 3 * k + 1, 0.5 * dwdx);
-            tp.emplace_back(r, 3 * k + 0, -0.5 * dwdy);
-        }
-      }
-    }
+  if (rigid) {
+    rigidFoundationMap(model, cd, s.fit, tp);
+  } else {
+    bilinearFootprintMap(model, footprint_, cd, tp);
   }
   s.p.resize(static_cast<int>(cd.size()), s.nq);
   s.p.setFromTriplets(tp.begin(), tp.end());
@@ -195,7 +233,8 @@ Eigen::MatrixXd BuildingResponseSolver::process(uint64_t first_sample, const Eig
   const double dt = sample_period_s_ / substeps_;
   for (Eigen::Index r = 0; r < vin.rows(); ++r) {
     const Eigen::VectorXd start = impl_->qd;
-    const Eigen::VectorXd target = vin.row(r).transpose();
+    const Eigen::VectorXd target = impl_->fit.size() > 0 ? Eigen::VectorXd(impl_->fit * vin.row(r).transpose())
+                                                         : Eigen::VectorXd(vin.row(r).transpose());
     for (int k = 1; k <= substeps_; ++k) step(start + (target - start) * (double(k) / substeps_), dt);
     out.row(r) = output().transpose();
   }

@@ -2,6 +2,7 @@
 // with a Craig-Bampton superstructure, advanced in lockstep with the soil.
 #include "railvib/soil/rigid_body.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -19,6 +20,13 @@ std::pair<long, long> gridRange(double x0, double h, size_t n, double a, double 
   return {lo, hi};
 }
 
+// The nearest node lines to a and b.
+std::pair<long, long> nearestRange(double x0, double h, size_t n, double a, double b) {
+  const long lo = std::clamp(std::lround((a - x0) / h), 0L, static_cast<long>(n));
+  const long hi = std::clamp(std::lround((b - x0) / h), 0L, static_cast<long>(n));
+  return {lo, hi};
+}
+
 }  // namespace
 
 RigidBodyCore::RigidBodyCore(const StructuredMesh& m, const std::vector<double>& mass, const RigidBodySpec& spec,
@@ -27,10 +35,20 @@ RigidBodyCore::RigidBodyCore(const StructuredMesh& m, const std::vector<double>&
   if (!(spec.x_max_m > spec.x_min_m) || !(spec.y_max_m > spec.y_min_m) || spec.depth_m < 0.0) {
     throw std::invalid_argument("rigid body '" + spec.name + "': empty region");
   }
-  const auto [i0, i1] = gridRange(m.x0, m.hx, m.nx, spec.x_min_m, spec.x_max_m, spec.snap_tolerance_m);
-  const auto [j0, j1] = gridRange(m.y0, m.hy, m.ny, spec.y_min_m, spec.y_max_m, spec.snap_tolerance_m);
+  const auto [i0, i1] = spec.snap_to_nearest
+                            ? nearestRange(m.x0, m.hx, m.nx, spec.x_min_m, spec.x_max_m)
+                            : gridRange(m.x0, m.hx, m.nx, spec.x_min_m, spec.x_max_m, spec.snap_tolerance_m);
+  const auto [j0, j1] = spec.snap_to_nearest
+                            ? nearestRange(m.y0, m.hy, m.ny, spec.y_min_m, spec.y_max_m)
+                            : gridRange(m.y0, m.hy, m.ny, spec.y_min_m, spec.y_max_m, spec.snap_tolerance_m);
   size_t k1 = 0;
-  while (k1 + 1 <= m.nz && m.z[k1 + 1] <= spec.depth_m + spec.snap_tolerance_m) ++k1;
+  if (spec.snap_to_nearest) {
+    for (size_t k = 0; k <= m.nz; ++k) {
+      if (std::abs(m.z[k] - spec.depth_m) < std::abs(m.z[k1] - spec.depth_m)) k1 = k;
+    }
+  } else {
+    while (k1 + 1 <= m.nz && m.z[k1 + 1] <= spec.depth_m + spec.snap_tolerance_m) ++k1;
+  }
   if (i1 < i0 || j1 < j0 || (i1 == i0 && j1 == j0)) {
     throw std::invalid_argument("rigid body '" + spec.name + "': its region holds no line of soil nodes");
   }

@@ -44,10 +44,12 @@ std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n
 
 }  // namespace
 
-SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m)
+SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m,
+                     const std::vector<RigidBodySpec>& bodies)
     : params_(params), sleeper_x_(sleeper_x_m) {
   StructuredMesh mesh = buildMesh(params_.profile, params_.mesh);
   solver_ = std::make_unique<Solver>(std::move(mesh), params_.solver);
+  for (const RigidBodySpec& b : bodies) solver_->attachRigidBody(b);
   const StructuredMesh& m = solver_->mesh();
   // Sleeper footprints -> consistent nodal loads (downward = +d).
   const double hl = 0.5 * params_.sleeper_length_m, hw = 0.5 * params_.sleeper_width_m;
@@ -97,9 +99,30 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   const size_t ns = (m.nx + 1) * (m.ny + 1);
   surf_prev_.assign(ns, 0.0);
   surf_acc_.assign(ns, 0.0);
+  if (params_.section_enabled) {
+    section_i_ =
+        static_cast<size_t>(std::clamp(std::lround((params_.section_x_m - m.x0) / m.hx), 0L, static_cast<long>(m.nx)));
+    sect_prev_.assign((m.ny + 1) * (m.nz + 1), 0.0);
+    sect_acc_ = sect_prev_;
+  }
 }
 
 SoilModel::~SoilModel() = default;
+
+namespace {
+nlohmann::json bodiesSummary(const Solver& s) {
+  nlohmann::json out = nlohmann::json::array();
+  for (size_t i = 0; i < s.rigidBodyCount(); ++i) {
+    const RigidBodyState& b = s.rigidBody(i);
+    out.push_back({{"carried_nodes", b.carried_nodes},
+                   {"carried_soil_mass_kg", b.carried_soil_mass_kg},
+                   {"total_mass_kg", b.total_mass_kg},
+                   {"region_m", {{b.x_min_m, b.x_max_m}, {b.y_min_m, b.y_max_m}, {0.0, b.depth_m}}},
+                   {"modes", b.modal_displacement.size()}});
+  }
+  return out;
+}
+}  // namespace
 
 nlohmann::json SoilModel::summary() const {
   const Solver& s = *solver_;
@@ -136,7 +159,8 @@ nlohmann::json SoilModel::summary() const {
           {"memory_bytes", s.memoryBytes() + snapshot_bytes},
           {"sleepers_loaded", sleeper_x_.size() - dropped_.size()},
           {"sleepers_dropped", dropped_.size()},
-          {"receivers", params_.receivers.size()}};
+          {"receivers", params_.receivers.size()},
+          {"rigid_bodies", bodiesSummary(s)}};
 }
 
 void SoilModel::pushLoads(uint64_t first_index, const double* forces_n, size_t frames) {
@@ -214,10 +238,37 @@ void SoilModel::recordOutputs() {
     }
     snaps_.push_back(std::move(s));
     std::fill(surf_acc_.begin(), surf_acc_.end(), 0.0);
+    if (params_.section_enabled) {
+      SectionSnapshot c;
+      c.index = snap_count_;
+      c.time_s = static_cast<double>(snap_count_) / params_.snapshot_rate_hz;
+      c.x_m = m.x(section_i_);
+      c.ny_nodes = m.ny + 1;
+      c.y0_m = m.y0;
+      c.dy_m = m.hy;
+      c.depth_m = m.z;
+      c.vz_up_m_s.resize(sect_acc_.size());
+      for (size_t i = 0; i < sect_acc_.size(); ++i) {
+        c.vz_up_m_s[i] = static_cast<float>(sect_acc_[i] / static_cast<double>(snap_acc_n_));
+      }
+      section_snaps_.push_back(std::move(c));
+      std::fill(sect_acc_.begin(), sect_acc_.end(), 0.0);
+    }
     snap_acc_n_ = 0;
     snap_count_ = k;
   }
   for (size_t i = 0; i < surf_acc_.size(); ++i) surf_acc_[i] += -0.5 * (surf_prev_[i] + surf_now_[i]);
+  if (params_.section_enabled) {
+    const StructuredMesh& m = solver_->mesh();
+    size_t q = 0;
+    for (size_t k = 0; k <= m.nz; ++k) {
+      for (size_t j = 0; j <= m.ny; ++j, ++q) {
+        const double v_now = solver_->velocity(m.node(section_i_, j, k), 2);
+        sect_acc_[q] += -0.5 * (sect_prev_[q] + v_now);
+        sect_prev_[q] = v_now;
+      }
+    }
+  }
   ++snap_acc_n_;
   surf_prev_.swap(surf_now_);
 }
@@ -255,6 +306,11 @@ void SoilModel::takeReceiverSamples(ReceiverBlock& out) {
 void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
   for (auto& s : snaps_) out.push_back(std::move(s));
   snaps_.clear();
+}
+
+void SoilModel::takeSectionSnapshots(std::vector<SectionSnapshot>& out) {
+  for (auto& s : section_snaps_) out.push_back(std::move(s));
+  section_snaps_.clear();
 }
 
 }  // namespace railvib::soil

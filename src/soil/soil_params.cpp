@@ -85,6 +85,11 @@ SoilParams loadSoilParams(const ConfigNode& root) {
     out.fail("snapshot_rate_hz", "must divide receiver_rate_hz into an integer ratio >= 1");
   }
   p.solver.align_rate_hz = p.receiver_rate_hz;
+  if (out.has("section")) {
+    const ConfigNode section = out.section("section");
+    p.section_enabled = section.flag("enabled", true);
+    p.section_x_m = section.number("x_m", Range::open(p.mesh.x_min_m, p.mesh.x_max_m));
+  }
   p.loads_outside_mesh = soil.section("loads").choice("outside_mesh", {"error", "drop"}, "error");
   p.start_from_static = soil.section("loads").flag("start_from_static", true);
 

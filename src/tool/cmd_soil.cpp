@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "railvib/building/model.hpp"
+#include "railvib/coupling/house_foundation.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/soil/lamb.hpp"
 #include "railvib/soil/snapshot_io.hpp"
@@ -336,7 +338,15 @@ int soilRun(const std::vector<std::string>& args) {
   const std::string dir = p.get("out");
 
   const auto wall0 = std::chrono::steady_clock::now();
-  SoilModel model(params, sleeper_x);
+  // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
+  std::vector<RigidBodySpec> bodies;
+  if (cfg.root().has("building")) {
+    const building::BuildingModel house(building::loadBuildingParams(cfg.root()));
+    if (house.params().coupling == building::SoilCoupling::TwoWay) {
+      bodies.push_back(coupling::houseFoundation(cfg.root(), house, params).body);
+    }
+  }
+  SoilModel model(params, sleeper_x, bodies);
   nlohmann::json summary = model.summary();
   std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
             << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
@@ -359,6 +369,7 @@ int soilRun(const std::vector<std::string>& args) {
   }
   io::CsvWriter rcsv(dir + "/receivers.csv", cols);
   std::vector<SurfaceSnapshot> snaps;
+  std::vector<SectionSnapshot> sections;
   ReceiverBlock block;
   std::vector<double> peak(model.receivers().size(), 0.0), tpeak(model.receivers().size(), 0.0);
   auto drain = [&]() {
@@ -377,6 +388,7 @@ int soilRun(const std::vector<std::string>& args) {
       rcsv.row(row);
     }
     model.takeSnapshots(snaps);
+    model.takeSectionSnapshots(sections);
   };
   const double chunk = 0.05;
   double next_report = 0.0;
@@ -396,6 +408,7 @@ int soilRun(const std::vector<std::string>& args) {
   drain();
   rcsv.commit();
   writeSnapshots(dir + "/surface_vz.snap", snaps);
+  if (!sections.empty()) writeSectionSnapshots(dir + "/section_vz.snap", sections);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double step_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_step0).count();
   nlohmann::json peaks = nlohmann::json::object();
@@ -420,6 +433,12 @@ int soilRun(const std::vector<std::string>& args) {
   summary["receiver_peaks"] = peaks;
   summary["load_rate_hz"] = rate;
   summary["outputs"] = {dir + "/receivers.csv", dir + "/surface_vz.snap", dir + "/summary.json"};
+  if (!sections.empty()) summary["outputs"].push_back(dir + "/section_vz.snap");
+  for (size_t i = 0; i < model.solver().rigidBodyCount(); ++i) {
+    const RigidBodyState& b = model.solver().rigidBody(i);
+    summary["rigid_bodies"][i]["final_displacement"] =
+        std::vector<double>(b.displacement.data(), b.displacement.data() + 6);
+  }
   {
     io::AtomicFile f(dir + "/summary.json");
     f.stream() << summary.dump(2) << "\n";

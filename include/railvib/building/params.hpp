@@ -41,6 +41,15 @@ struct InteriorWall {
   double position_m = 0.0;  ///< building frame
 };
 
+/// How the house and the soil interact.
+enum class SoilCoupling {
+  /// The foundation follows the free-field motion of the soil at its footprint (bilinear in plan).
+  OneWay,
+  /// The foundation is a rigid body in the soil that carries the house (reduced) and acts back on the
+  /// soil; the house follows the foundation's rigid motion, fitted from the footprint receivers.
+  TwoWay,
+};
+
 struct BuildingParams {
   // Geometry [paper]: outer plan dimensions and height above the ground surface.
   double length_m = 10.0;
@@ -65,6 +74,10 @@ struct BuildingParams {
   double damping_f1_hz = 5.0;
   double damping_f2_hz = 50.0;
   double max_time_step_s = 1.0e-3;
+
+  SoilCoupling coupling = SoilCoupling::OneWay;
+  /// two_way: fixed-interface modes kept in the reduction (Hz; 0 = twice the soil's f_max).
+  double coupling_modes_max_hz = 0.0;
 
   int footprint_nx = 21;
   int footprint_ny = 15;

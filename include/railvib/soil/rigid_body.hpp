@@ -43,9 +43,12 @@ struct ReducedStructure {
 struct RigidBodySpec {
   std::string name = "foundation";
   /// Region of carried soil nodes (internal frame, m): x, y range and depth below the surface
-  /// (0: the surface nodes only). Nodes within `snap_tolerance_m` of the region count as inside.
+  /// (0: the surface nodes only). Nodes within `snap_tolerance_m` of the region count as inside;
+  /// with `snap_to_nearest` each face moves to the nearest node line/plane instead (a region that
+  /// does not follow the mesh, e.g. a house).
   double x_min_m = 0.0, x_max_m = 0.0, y_min_m = 0.0, y_max_m = 0.0, depth_m = 0.0;
   double snap_tolerance_m = 1e-6;
+  bool snap_to_nearest = false;
   /// Reference point of the rigid DOFs (internal frame: x, y, d).
   Eigen::Vector3d reference_m = Eigen::Vector3d::Zero();
   /// Mass added to the carried soil nodes (about the reference point).

@@ -21,4 +21,10 @@ void writeSnapshots(const std::string& path, const std::vector<SurfaceSnapshot>&
 /// Read a snapshot file back. Throws std::runtime_error on a malformed file.
 std::vector<SurfaceSnapshot> readSnapshots(const std::string& path);
 
+/// Vertical section snapshots: "RVBSECT1", uint64 ny_nodes, uint64 planes, float64 x_m, y0_m, dy_m,
+/// float64[planes] depths (m, down), uint64 count, then per snapshot uint64 index, float64 time_s,
+/// float32[ny_nodes * planes] vz_up_m_s (y fastest, then depth).
+void writeSectionSnapshots(const std::string& path, const std::vector<SectionSnapshot>& snapshots);
+std::vector<SectionSnapshot> readSectionSnapshots(const std::string& path);
+
 }  // namespace railvib::soil

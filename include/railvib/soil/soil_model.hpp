@@ -53,11 +53,25 @@ struct SurfaceSnapshot {
   std::vector<float> vz_up_m_s;
 };
 
+/// Vertical (up) velocity on the vertical plane x = x_m (the node plane nearest to it) across the
+/// whole box: y fastest, then depth; box-averaged in time like SurfaceSnapshot (paper, Fig. 16).
+struct SectionSnapshot {
+  uint64_t index = 0;
+  double time_s = 0.0;
+  double x_m = 0.0;
+  size_t ny_nodes = 0;
+  double y0_m = 0.0, dy_m = 0.0;
+  std::vector<double> depth_m;  // node plane depths (m, down), one per row
+  std::vector<float> vz_up_m_s;
+};
+
 class SoilModel {
  public:
-  /// Builds the mesh and the solver; sleepers outside the mesh are an error or
-  /// dropped (params.loads_outside_mesh). Throws ConfigError / std::invalid_argument.
-  SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m);
+  /// Builds the mesh and the solver, and attaches the rigid bodies (e.g. a house's foundation,
+  /// coupling/house_foundation.hpp); sleepers outside the mesh are an error or dropped
+  /// (params.loads_outside_mesh). Throws ConfigError / std::invalid_argument.
+  SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m,
+            const std::vector<RigidBodySpec>& bodies = {});
   ~SoilModel();
 
   const Solver& solver() const { return *solver_; }
@@ -95,6 +109,8 @@ class SoilModel {
   void takeReceiverSamples(ReceiverBlock& out);
   /// Append the snapshots produced since the last call.
   void takeSnapshots(std::vector<SurfaceSnapshot>& out);
+  /// Append the section snapshots produced since the last call (none unless soil.output.section).
+  void takeSectionSnapshots(std::vector<SectionSnapshot>& out);
 
  private:
   void recordOutputs();
@@ -111,6 +127,9 @@ class SoilModel {
   std::vector<double> surf_prev_, surf_now_, surf_acc_;
   uint64_t snap_steps_ = 0, snap_count_ = 0, snap_acc_n_ = 0;
   std::vector<SurfaceSnapshot> snaps_;
+  size_t section_i_ = 0;
+  std::vector<double> sect_prev_, sect_acc_;
+  std::vector<SectionSnapshot> section_snaps_;
   std::vector<double> channel_values_, load_eval_, first_frame_, shifted_;
   double load_t_offset_ = 0.0;
 };

@@ -23,6 +23,9 @@ struct SoilParams {
   double max_memory_gb = 12.0;
   double receiver_rate_hz = 1000.0;
   double snapshot_rate_hz = 100.0;
+  /// Vertical section x = section_x_m recorded at the snapshot rate (paper, Fig. 16), if enabled.
+  bool section_enabled = false;
+  double section_x_m = 0.0;
   /// Sleeper footprint on the surface, centred on the track axis (y = 0).
   double sleeper_length_m = 2.6, sleeper_width_m = 0.25;
   /// Sleeper positions rule of the track model: offset + k * spacing within the extent.

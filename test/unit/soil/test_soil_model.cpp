@@ -171,3 +171,44 @@ TEST(SoilModel, FinishRunEndsOneStepPastTheLastLoadWhateverTheRounding) {
     EXPECT_LE(rb.frames(), static_cast<size_t>(std::floor(m.time() * p.receiver_rate_hz + 1e-9)) + 1) << t_end;
   }
 }
+
+// The vertical section (paper, Fig. 16) and the surface snapshots are two views of one field: the
+// section's surface row equals the surface snapshot's column at the section's x, and a load on the
+// track axis gives a section symmetric in y about it.
+TEST(SoilModel, SectionSnapshotsAgreeWithTheSurfaceAndAreSymmetric) {
+  SoilParams p = smallParams(railvib::soil::testing::smallScenario());
+  p.section_enabled = true;
+  p.section_x_m = 0.0;
+  p.receivers.clear();
+  const std::vector<double> xs = {0.0};
+  SoilModel m(p, xs);
+  std::vector<double> loads(201);
+  for (size_t f = 0; f < loads.size(); ++f) loads[f] = 1e4 * std::exp(-std::pow((f / 2000.0 - 0.02) / 0.004, 2));
+  m.pushLoads(0, loads.data(), loads.size());
+  m.finishLoads();
+  m.finishRun(0.1, 0.05);
+  std::vector<SurfaceSnapshot> surf;
+  std::vector<SectionSnapshot> sect;
+  m.takeSnapshots(surf);
+  m.takeSectionSnapshots(sect);
+  ASSERT_EQ(surf.size(), sect.size());
+  ASSERT_GT(sect.size(), 5u);
+  const StructuredMesh& mesh = m.solver().mesh();
+  const size_t i = static_cast<size_t>(std::lround((0.0 - mesh.x0) / mesh.hx));
+  double peak = 0.0, asym = 0.0;
+  for (size_t s = 0; s < sect.size(); ++s) {
+    ASSERT_EQ(sect[s].index, surf[s].index);
+    ASSERT_EQ(sect[s].vz_up_m_s.size(), (mesh.ny + 1) * (mesh.nz + 1));
+    for (size_t j = 0; j <= mesh.ny; ++j) {
+      EXPECT_EQ(sect[s].vz_up_m_s[j], surf[s].vz_up_m_s[j * (mesh.nx + 1) + i]);
+      for (size_t k = 0; k <= mesh.nz; ++k) {
+        const float v = sect[s].vz_up_m_s[k * (mesh.ny + 1) + j];
+        const float mirror = sect[s].vz_up_m_s[k * (mesh.ny + 1) + (mesh.ny - j)];
+        peak = std::max(peak, static_cast<double>(std::abs(v)));
+        asym = std::max(asym, static_cast<double>(std::abs(v - mirror)));
+      }
+    }
+  }
+  EXPECT_GT(peak, 1e-6);
+  EXPECT_LT(asym, 1e-4 * peak);  // the box is symmetric about y = 0 (y in [-4, 4])
+}

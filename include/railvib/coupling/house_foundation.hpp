@@ -1,0 +1,37 @@
+// railvib/coupling: the house standing on the soil (two-way soil-structure interaction).
+//
+// Composes the two domains without mixing them: the building domain reduces
+// the house on its rigid foundation (building/reduction.hpp), the soil domain
+// carries a rigid body with a reduced structure (soil/rigid_body.hpp); this
+// file turns the one into the other. The foundation is the paper's embedded
+// concrete box: the soil nodes inside the house's plan down to the foundation
+// depth move rigidly; the box weighs its concrete plus the fill inside (the
+// carried soil nodes hold the soil mass of the whole box volume, so the
+// concrete's excess over the soil it displaces is added). Frames: the soil's
+// rigid DOFs are (u_x, u_y, u_d, w_x, w_y, w_d) in x, y, d = depth down; the
+// building's (U, Theta) in x, y, z up with right-handed rotations, so
+// q_building = D q_soil with D = diag(1, 1, -1, -1, -1, 1).
+#pragma once
+
+#include "railvib/building/model.hpp"
+#include "railvib/building/reduction.hpp"
+#include "railvib/common/config.hpp"
+#include "railvib/soil/rigid_body.hpp"
+#include "railvib/soil/soil_params.hpp"
+
+namespace railvib::coupling {
+
+struct HouseFoundation {
+  soil::RigidBodySpec body;
+  building::RigidBaseReduction reduction;
+  /// Mass of the concrete of the foundation box (kg) and the soil it displaces (kg).
+  double concrete_mass_kg = 0.0, displaced_soil_mass_kg = 0.0;
+};
+
+/// The soil's rigid body for the house of `model` on the soil of `soil_params`. Checks the
+/// placement (inside the soil box and outside its absorbing zone, not deeper than the mesh, clear
+/// of the track's sleepers) and the mode cut-off, and refuses with the key path (ConfigError).
+HouseFoundation houseFoundation(const ConfigNode& root, const building::BuildingModel& model,
+                                const soil::SoilParams& soil_params);
+
+}  // namespace railvib::coupling
