@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "railvib/common/config.hpp"
+#include "railvib/common/names.hpp"
 
 namespace railvib::building {
 namespace {
@@ -199,14 +200,30 @@ std::vector<FootprintPoint> footprintPoints(const BuildingParams& p) {
   for (int j = 0; j < p.footprint_ny; ++j) {
     for (int i = 0; i < p.footprint_nx; ++i) {
       FootprintPoint f;
-      f.name = "footprint_" + std::to_string(i) + "_" + std::to_string(j);
+      f.name = names::footprintPoint(i, j);
       f.x_building_m = x0 + (x1 - x0) * i / (p.footprint_nx - 1);
       f.y_building_m = y0 + (y1 - y0) * j / (p.footprint_ny - 1);
-      f.x_track_m = p.origin_x_track_m + f.x_building_m;
-      f.y_track_m = p.origin_y_track_m + f.y_building_m;
+      f.x_track_m = p.placement.trackX(f.x_building_m);
+      f.y_track_m = p.placement.trackY(f.y_building_m);
       f.z_track_m = 0.0;
       out.push_back(f);
     }
+  }
+  return out;
+}
+
+std::vector<NamedPoint> freeFieldPoints(const BuildingParams& p) {
+  const BuildingPlacement& at = p.placement;
+  std::vector<NamedPoint> out;
+  for (int row = 0; row < 3; ++row) {
+    for (int column = 0; column < 3; ++column) {
+      out.push_back({names::buildingPlanPoint(row, column), at.origin_x_m + 0.5 * at.length_m * column,
+                     at.origin_y_m + 0.5 * at.width_m * row, 0.0});
+    }
+  }
+  if (!p.response_points.empty()) {
+    const NamedPoint& r = p.response_points.front();
+    out.push_back({names::kBuildingResponseFreeFieldPoint, at.trackX(r.x_m), at.trackY(r.y_m), 0.0});
   }
   return out;
 }

@@ -11,11 +11,13 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "railvib/building/model.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/soil/lamb.hpp"
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "railvib/soil/verification.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 #include "tool_common.hpp"
 
 namespace railvib::tool {
@@ -305,8 +307,13 @@ int soilRun(const std::vector<std::string>& args) {
   if (!p.has("loads") || p.get("loads").empty()) throw ArgError("soil: --loads is required");
   if (!p.has("out") || p.get("out").empty()) throw ArgError("soil: --out is required");
   const Config cfg = loadConfig(p);
-  SoilParams params = loadSoilParams(cfg.root());
-  const double duration = p.getDouble("duration") <= 0.0 ? params.duration_s : p.getDouble("duration");
+  const ConfigNode root = cfg.root();
+  // The house's free-field receivers, as the soil node has them (its footprint is the building's input).
+  HouseReceivers house;
+  if (root.has("building")) house.free_field = building::freeFieldPoints(building::loadBuildingParams(root));
+  const SoilParams params = loadSoilParams(root, house);
+  const double duration =
+      p.getDouble("duration") <= 0.0 ? vehicle::loadPassageParams(root).duration_s : p.getDouble("duration");
 
   const io::CsvTable loads = io::readCsv(p.get("loads"));
   if (loads.columns.empty() || loads.columns[0] != "t_s" || loads.rows.size() < 2) {
@@ -314,7 +321,6 @@ int soilRun(const std::vector<std::string>& args) {
   }
   const double rate = 1.0 / (loads.rows[1][0] - loads.rows[0][0]);
   if (std::abs(loads.rows[0][0]) > 1e-9) throw std::runtime_error(p.get("loads") + ": first sample must be at t = 0");
-  params.load_sample_rate_hz = rate;
   const size_t ns = loads.columns.size() - 1;
   std::vector<double> sleeper_x;
   std::string sleeper_file = p.get("sleepers") == "auto" ? "" : p.get("sleepers");
@@ -326,7 +332,7 @@ int soilRun(const std::vector<std::string>& args) {
     const io::CsvTable sl = io::readCsv(sleeper_file);
     for (const auto& r : sl.rows) sleeper_x.push_back(r[sl.column("x_m")]);
   } else {
-    sleeper_x = params.sleeperPositions();
+    sleeper_x = params.track.sleeperPositions();
   }
   if (sleeper_x.size() != ns) {
     throw std::runtime_error(p.get("loads") + ": " + std::to_string(ns) + " sleeper columns but " +
@@ -336,7 +342,7 @@ int soilRun(const std::vector<std::string>& args) {
   const std::string dir = p.get("out");
 
   const auto wall0 = std::chrono::steady_clock::now();
-  SoilModel model(params, sleeper_x);
+  SoilModel model(params, sleeper_x, rate);
   nlohmann::json summary = model.summary();
   std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
             << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
