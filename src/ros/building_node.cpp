@@ -87,6 +87,7 @@ void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
   }
   publisher_.publish(block);
   status_->countSamples("surface_velocities in", msg.sample_count);
+  status_->countSamples("building_response out", msg.sample_count);
   const double t = static_cast<double>(msg.first_sample_index + msg.sample_count) * msg.sample_period_s;
   ended_ = msg.end_of_stream;
   status_->update(t, ended_);

@@ -177,11 +177,17 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
         publishMetrics(s, emitted.back().time_s);
       }
     }
+    const double t_s = static_cast<double>(block.first_sample_index + block.sample_count) * block.sample_period_s;
+    status_->countSamples(source.name + " in", block.sample_count);
+    status_->update(t_s);
     if (block.end_of_stream) source.ended = true;
     const bool all_ended =
         std::all_of(sources_.begin(), sources_.end(), [](const std::unique_ptr<Source>& s) { return s->ended; });
     publishBlocks(all_ended);
-    if (all_ended) finished_ = true;
+    if (all_ended) {
+      finished_ = true;
+      status_->finish(t_s);
+    }
   });
 }
 
@@ -289,6 +295,7 @@ void VirtualSensorNode::publishBlocks(bool end_of_stream) {
           }
         }
         samples_publisher_.publish(block);
+        status_->countSamples("sensor_samples out", count);
         next_block_index_ += count;
       });
   for (auto& s : sensors_) s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<long>(consumed));
