@@ -9,10 +9,12 @@ Reads the railvib streams of the bag (whatever the scenario recorded):
   /surface_velocities  soil receivers (+ /surface_points names)
   /building_response   house response points (+ /building_points names)
   /sensor_samples      virtual sensors
+  /sensor_metrics      the sensors' metrics and verdicts (the last message of each)
 and writes PNG figures plus report.md into OUTDIR (default: BAG without
-.bag + "_report"). Every vibration metric (KB_F, PPV, DIN 4150 verdicts,
-one-third-octave levels) is computed by `railvib_tool metrics`, the same
-core code the live sensors use, never re-implemented here.
+.bag + "_report"). The metric table (KB_Fmax, PPV, the governing component,
+DIN 4150 verdicts) is what the live sensors recorded in the bag; the KB_F(t)
+curves come from `railvib_tool metrics` on the recorded samples: the same core
+code, never re-implemented here.
 """
 import csv
 import json
@@ -28,6 +30,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import railvib_names as names  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 
 try:
@@ -72,8 +75,20 @@ def tool():
     die("railvib_tool not found: build with ./railvib setup")
 
 
+VERDICTS = {0: "OK", 1: "WARN (rating KB_FTr decides)", 2: "ERROR"}
+COMPONENTS = ["vx", "vy", "vz"]  # the columns railvib_tool metrics names them by
+
+
+def last_metrics(bag):
+    """The last VibrationMetrics of each sensor (it covers the whole record)."""
+    last = {}
+    for _, m, _ in bag.read_messages(topics=[names.SENSOR_METRICS]):
+        last[m.sensor_name] = m
+    return last
+
+
 def metrics(t, v_m_s, outdir, name):
-    """Run railvib_tool metrics on one sensor's 3 components; returns its JSON summary."""
+    """Run railvib_tool metrics on one sensor's 3 components; returns its JSON summary and KB_F(t)."""
     path = outdir / f"{name}_velocity.csv"
     with open(path, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
@@ -87,6 +102,15 @@ def metrics(t, v_m_s, outdir, name):
         die(f"railvib_tool metrics failed for {name}: {out.stderr.strip()}")
     kbf = np.genfromtxt(outdir / f"{name}_kbf.csv", delimiter=",", names=True)
     return json.loads(out.stdout), kbf
+
+
+def names_in_order(ss, live):
+    """Sensors in the order of the samples stream; each must have its recorded metrics."""
+    order = list(ss[0].sensor_names)
+    missing = [n for n in order if n not in live]
+    if missing:
+        die("no metrics recorded on " + names.SENSOR_METRICS + " for " + ", ".join(missing))
+    return order
 
 
 def spectrum(t, x):
@@ -117,7 +141,7 @@ def main(argv):
 
     with bag:
         # ---- contact forces around the defect
-        cf = read_stream(bag, "/contact_forces")
+        cf = read_stream(bag, names.CONTACT_FORCES)
         if cf:
             nw = cf[0].wheel_count
             f = np.concatenate([np.array(b.force_n).reshape(-1, nw) for b in cf])
@@ -141,17 +165,16 @@ def main(argv):
             lines.append("")
 
         # ---- virtual sensors: time history, spectrum, KB_F + metric table
-        ss = read_stream(bag, "/sensor_samples")
-        sensor_rows = []
+        ss = read_stream(bag, names.SENSOR_SAMPLES)
+        live = last_metrics(bag)
         if ss:
-            names = list(ss[0].sensor_names)
-            ns = len(names)
+            sensor_names = list(ss[0].sensor_names)
+            ns = len(sensor_names)
             v = np.concatenate([np.array(b.velocity_m_s).reshape(-1, ns, 3) for b in ss])
             t = np.arange(len(v)) * ss[0].sample_period_s
             fig, axes = plt.subplots(ns, 3, figsize=(13, 2.6 * ns), squeeze=False)
-            for i, name in enumerate(names):
-                summary, kbf = metrics(t, v[:, i, :], outdir, name)
-                sensor_rows.append((name, summary))
+            for i, name in enumerate(sensor_names):
+                _, kbf = metrics(t, v[:, i, :], outdir, name)
                 ax = axes[i][0]
                 ax.plot(t, v[:, i, 2] * 1e3, lw=0.6)
                 ax.set_title(f"{name}: vertical velocity")
@@ -180,26 +203,27 @@ def main(argv):
                       "| sensor | KB_Fmax | PPV, vector [mm/s] | governing component: peak [mm/s] | "
                       "its frequency [Hz] | its DIN 4150-3 limit [mm/s] | DIN 4150-2 | DIN 4150-3 |",
                       "|---|---|---|---|---|---|---|---|"]
-            for name, s in sensor_rows:
-                d2, d3 = s["din4150_2"], s["din4150_3"]
-                # DIN 4150-3 judges each component's peak against the limit at its own frequency.
-                worst = max(d3["components"], key=lambda c: c["ratio_to_limit"])
+            for name in names_in_order(ss, live):
+                m = live[name]
                 lines.append("| {} | {:.4f} | {:.4f} | {} {:.4f} | {:.1f} | {:.1f} | {} | {} |".format(
-                    name, d2["kb_fmax"], d3["vector_peak_mm_s"], worst["column"], worst["ppv_mm_s"],
-                    worst["dominant_frequency_hz"], worst["din4150_3_limit_mm_s"], d2["verdict"], d3["verdict"]))
+                    name, m.kb_f_max, m.ppv_m_s * 1e3, COMPONENTS[m.governing_component], m.governing_ppv_m_s * 1e3,
+                    m.dominant_frequency_hz, m.din4150_3_limit_m_s * 1e3, VERDICTS[m.din4150_2_verdict],
+                    VERDICTS[m.din4150_3_verdict]))
             lines += ["", "DIN 4150-3 (short-term, residential building, Table 1 row 2) compares the peak of "
                       "each velocity component with the guide value at that component's dominant frequency; "
                       "the vector PPV (peak of |v|) is given for information. DIN 4150-2 compares KB_Fmax "
-                      "with the A_u / A_o guide values of the chosen period.", ""]
+                      "with the A_u / A_o guide values of the chosen period (between them the rating KB_FTr "
+                      "over the exposure decides: `railvib_tool metrics --exposure-s`). Values and verdicts as the "
+                      "live sensors recorded them (" + names.SENSOR_METRICS + ").", ""]
 
-        # ---- wave field along the line perpendicular to the track (receivers named line_*)
-        sv = read_stream(bag, "/surface_velocities")
-        names, pos = layout(bag, "/surface_points")
-        if sv and names:
+        # ---- wave field along the line perpendicular to the track (receivers named line_y*)
+        sv = read_stream(bag, names.SURFACE_VELOCITIES)
+        points, pos = layout(bag, names.SURFACE_POINTS)
+        if sv and points:
             nr = sv[0].receiver_count
             vel = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
             t = np.arange(len(vel)) * sv[0].sample_period_s
-            line = [(pos[i][1], i) for i, n in enumerate(names) if n.startswith("line_")]
+            line = [(pos[i][1], i) for i, n in enumerate(points) if n.startswith(names.RECEIVER_LINE_PREFIX)]
             if line:
                 line.sort()
                 y = np.array([p for p, _ in line])
@@ -220,7 +244,8 @@ def main(argv):
                 figures.append("wave_field.png")
 
         # ---- house floors vs the free field at the same place (paper Fig. 15)
-        if ss and sv and names and "bldg_response_point" in names:
+        free_field_point = names.BUILDING_RESPONSE_FREE_FIELD_POINT
+        if ss and sv and points and free_field_point in points:
             snames = list(ss[0].sensor_names)
             floors = [n for n in ("house_ground_floor", "house_first_floor") if n in snames]
             if floors:
@@ -230,7 +255,7 @@ def main(argv):
                 nr = sv[0].receiver_count
                 vf = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
                 tf = np.arange(len(vf)) * sv[0].sample_period_s
-                free = vf[:, names.index("bldg_response_point"), 2] * 1e3
+                free = vf[:, points.index(free_field_point), 2] * 1e3
                 fig, axes = plt.subplots(len(floors), 2, figsize=(12, 3.2 * len(floors)), squeeze=False)
                 for row, name in enumerate(floors):
                     house = vs[:, snames.index(name), 2] * 1e3

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "railvib/common/config.hpp"
+#include "railvib/common/names.hpp"
 
 namespace railvib::building {
 namespace {
@@ -28,154 +29,179 @@ double overlap(double a0, double a1, double b0, double b1) {
   return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
 }
 
-}  // namespace
+// The structured mesh of the house, built in the order walls, interior walls, slabs (node and
+// element numbering follow that order).
+class MeshBuilder {
+ public:
+  explicit MeshBuilder(const BuildingParams& p) : p_(p) {
+    const double h = p.element_size_m;
+    mesh_.element_size_m = h;
+    mesh_.x0_m = 0.5 * p.wall_thickness_m;
+    mesh_.x1_m = p.length_m - 0.5 * p.wall_thickness_m;
+    mesh_.y0_m = 0.5 * p.wall_thickness_m;
+    mesh_.y1_m = p.width_m - 0.5 * p.wall_thickness_m;
+    mesh_.sections = {{"masonry_walls", "masonry", shellOf(p.wall, p.wall_thickness_m)},
+                      {"concrete_floors", "concrete_floors", shellOf(p.floor, p.floor_thickness_m)},
+                      {"foundation_walls", "concrete_foundation", shellOf(p.foundation, p.foundation_wall_thickness_m)},
+                      {"base_slab", "concrete_foundation", shellOf(p.foundation, p.base_slab_thickness_m)}};
+    nx_ = divisions(mesh_.x1_m - mesh_.x0_m, h);
+    ny_ = divisions(mesh_.y1_m - mesh_.y0_m, h);
+    xs_.resize(nx_ + 1);
+    ys_.resize(ny_ + 1);
+    for (int i = 0; i <= nx_; ++i) xs_[i] = mesh_.x0_m + (mesh_.x1_m - mesh_.x0_m) * i / nx_;
+    for (int j = 0; j <= ny_; ++j) ys_[j] = mesh_.y0_m + (mesh_.y1_m - mesh_.y0_m) * j / ny_;
+    buildLevels();
+  }
 
-BuildingMesh buildMesh(const BuildingParams& p) {
-  BuildingMesh mesh;
-  const double h = p.element_size_m;
-  mesh.element_size_m = h;
-  mesh.x0_m = 0.5 * p.wall_thickness_m;
-  mesh.x1_m = p.length_m - 0.5 * p.wall_thickness_m;
-  mesh.y0_m = 0.5 * p.wall_thickness_m;
-  mesh.y1_m = p.width_m - 0.5 * p.wall_thickness_m;
-  mesh.sections = {{"masonry_walls", "masonry", shellOf(p.wall, p.wall_thickness_m)},
-                   {"concrete_floors", "concrete_floors", shellOf(p.floor, p.floor_thickness_m)},
-                   {"foundation_walls", "concrete_foundation", shellOf(p.foundation, p.foundation_wall_thickness_m)},
-                   {"base_slab", "concrete_foundation", shellOf(p.foundation, p.base_slab_thickness_m)}};
+  BuildingMesh build() {
+    addExteriorWalls();
+    addInteriorWalls();
+    addSlabs();
+    return std::move(mesh_);
+  }
 
-  const int nx = divisions(mesh.x1_m - mesh.x0_m, h);
-  const int ny = divisions(mesh.y1_m - mesh.y0_m, h);
-  std::vector<double> xs(nx + 1), ys(ny + 1);
-  for (int i = 0; i <= nx; ++i) xs[i] = mesh.x0_m + (mesh.x1_m - mesh.x0_m) * i / nx;
-  for (int j = 0; j <= ny; ++j) ys[j] = mesh.y0_m + (mesh.y1_m - mesh.y0_m) * j / ny;
-
-  // Levels and the vertical grid.
+ private:
   struct Level {
     double z;
     std::string group;  // empty: no slab
     int section;
     double support_t;  // thickness of the walls bounding the slab (clear interior)
   };
-  std::vector<Level> levels;
-  levels.push_back({-p.foundation_depth_m, "base_slab", kBaseSlab, p.foundation_wall_thickness_m});
-  levels.push_back({0.0, "slab_0", kFloor, p.foundation_wall_thickness_m});
-  const double sh = p.height_m / p.storeys;
-  for (int k = 1; k < p.storeys; ++k)
-    levels.push_back({k * sh, "slab_" + std::to_string(k), kFloor, p.wall_thickness_m});
-  levels.push_back({p.height_m, p.roof_slab ? "roof" : "", kFloor, p.wall_thickness_m});
-  std::vector<double> zs;
-  std::vector<int> level_k;
-  for (size_t l = 0; l < levels.size(); ++l) {
-    if (l == 0) {
-      zs.push_back(levels[0].z);
-    } else {
-      const double z0 = levels[l - 1].z;
-      const double z1 = levels[l].z;
-      const int n = divisions(z1 - z0, h);
-      for (int s = 1; s <= n; ++s) zs.push_back(s == n ? z1 : z0 + (z1 - z0) * s / n);
+
+  // Slab levels (base slab, ground floor, upper floors, top) and the vertical node planes between them.
+  void buildLevels() {
+    levels_.push_back({-p_.foundation_depth_m, "base_slab", kBaseSlab, p_.foundation_wall_thickness_m});
+    levels_.push_back({0.0, "slab_0", kFloor, p_.foundation_wall_thickness_m});
+    const double sh = p_.height_m / p_.storeys;
+    for (int k = 1; k < p_.storeys; ++k)
+      levels_.push_back({k * sh, "slab_" + std::to_string(k), kFloor, p_.wall_thickness_m});
+    levels_.push_back({p_.height_m, p_.roof_slab ? "roof" : "", kFloor, p_.wall_thickness_m});
+    for (size_t l = 0; l < levels_.size(); ++l) {
+      if (l == 0) {
+        zs_.push_back(levels_[0].z);
+      } else {
+        const double z0 = levels_[l - 1].z;
+        const double z1 = levels_[l].z;
+        const int n = divisions(z1 - z0, p_.element_size_m);
+        for (int s = 1; s <= n; ++s) zs_.push_back(s == n ? z1 : z0 + (z1 - z0) * s / n);
+      }
+      level_k_.push_back(static_cast<int>(zs_.size()) - 1);
     }
-    level_k.push_back(static_cast<int>(zs.size()) - 1);
   }
 
-  std::map<std::tuple<int, int, int>, int> ids;
-  auto node = [&](int i, int j, int k) {
+  int node(int i, int j, int k) {
     auto key = std::make_tuple(i, j, k);
-    auto it = ids.find(key);
-    if (it != ids.end()) return it->second;
-    const int id = static_cast<int>(mesh.nodes.size());
-    mesh.nodes.emplace_back(xs[i], ys[j], zs[k]);
-    ids.emplace(key, id);
+    auto it = ids_.find(key);
+    if (it != ids_.end()) return it->second;
+    const int id = static_cast<int>(mesh_.nodes.size());
+    mesh_.nodes.emplace_back(xs_[i], ys_[j], zs_[k]);
+    ids_.emplace(key, id);
     return id;
-  };
-  auto group = [&](const std::string& name) {
-    auto it = std::find(mesh.groups.begin(), mesh.groups.end(), name);
-    if (it != mesh.groups.end()) return static_cast<int>(it - mesh.groups.begin());
-    mesh.groups.push_back(name);
-    return static_cast<int>(mesh.groups.size()) - 1;
-  };
-  auto inOpening = [&](const std::string& wall, double s, double z) {
-    for (const Opening& o : p.openings) {
+  }
+
+  int group(const std::string& name) {
+    auto it = std::find(mesh_.groups.begin(), mesh_.groups.end(), name);
+    if (it != mesh_.groups.end()) return static_cast<int>(it - mesh_.groups.begin());
+    mesh_.groups.push_back(name);
+    return static_cast<int>(mesh_.groups.size()) - 1;
+  }
+
+  bool inOpening(const std::string& wall, double s, double z) const {
+    for (const Opening& o : p_.openings) {
       if (o.wall == wall && s > o.start_m && s < o.start_m + o.width_m && z > o.bottom_m && z < o.bottom_m + o.height_m)
         return true;
     }
     return false;
-  };
+  }
 
-  // Walls.
-  for (size_t k = 0; k + 1 < zs.size(); ++k) {
-    const bool below = zs[k + 1] <= 1e-9;
-    const int sec = below ? kFoundationWall : kMasonry;
-    const double zc = 0.5 * (zs[k] + zs[k + 1]);
-    const int kk = static_cast<int>(k);
-    for (int i = 0; i < nx; ++i) {
-      const double xc = 0.5 * (xs[i] + xs[i + 1]);
-      if (below || !inOpening("front", xc, zc))
-        mesh.elements.push_back({{node(i, 0, kk), node(i + 1, 0, kk), node(i + 1, 0, kk + 1), node(i, 0, kk + 1)},
-                                 sec,
-                                 group(below ? "foundation_walls" : "wall_front"),
-                                 1.0});
-      if (below || !inOpening("back", xc, zc))
-        mesh.elements.push_back({{node(i, ny, kk), node(i + 1, ny, kk), node(i + 1, ny, kk + 1), node(i, ny, kk + 1)},
-                                 sec,
-                                 group(below ? "foundation_walls" : "wall_back"),
-                                 1.0});
-    }
-    for (int j = 0; j < ny; ++j) {
-      const double yc = 0.5 * (ys[j] + ys[j + 1]);
-      if (below || !inOpening("left", yc, zc))
-        mesh.elements.push_back({{node(0, j, kk), node(0, j + 1, kk), node(0, j + 1, kk + 1), node(0, j, kk + 1)},
-                                 sec,
-                                 group(below ? "foundation_walls" : "wall_left"),
-                                 1.0});
-      if (below || !inOpening("right", yc, zc))
-        mesh.elements.push_back({{node(nx, j, kk), node(nx, j + 1, kk), node(nx, j + 1, kk + 1), node(nx, j, kk + 1)},
-                                 sec,
-                                 group(below ? "foundation_walls" : "wall_right"),
-                                 1.0});
-    }
+  // The corner nodes are created in the order given (a braced list is evaluated left to right).
+  void addQuad(const std::array<int, 4>& corners, int section, int g, double mass_scale = 1.0) {
+    mesh_.elements.push_back({corners, section, g, mass_scale});
   }
-  // Interior walls: masonry, from the ground slab to the top of the walls, on the nearest mesh line.
-  // (Their crossing with the slabs is counted twice in the mass: t_wall x t_slab per metre, documented.)
-  const int k_ground = level_k[1];
-  for (const InteriorWall& w : p.interior_walls) {
-    const int g = group(w.along == "x" ? "wall_interior_x" : "wall_interior_y");
-    if (w.along == "x") {
-      const int j = static_cast<int>(std::lround((w.position_m - mesh.y0_m) / (mesh.y1_m - mesh.y0_m) * ny));
-      if (j <= 0 || j >= ny) continue;
-      for (int k = k_ground; k + 1 < static_cast<int>(zs.size()); ++k)
-        for (int i = 0; i < nx; ++i)
-          mesh.elements.push_back(
-              {{node(i, j, k), node(i + 1, j, k), node(i + 1, j, k + 1), node(i, j, k + 1)}, kMasonry, g, 1.0});
-    } else {
-      const int i = static_cast<int>(std::lround((w.position_m - mesh.x0_m) / (mesh.x1_m - mesh.x0_m) * nx));
-      if (i <= 0 || i >= nx) continue;
-      for (int k = k_ground; k + 1 < static_cast<int>(zs.size()); ++k)
-        for (int j = 0; j < ny; ++j)
-          mesh.elements.push_back(
-              {{node(i, j, k), node(i, j + 1, k), node(i, j + 1, k + 1), node(i, j, k + 1)}, kMasonry, g, 1.0});
-    }
+
+  // A vertical element from (i0, j0) to (i1, j1) between node planes k and k + 1.
+  void addVerticalQuad(int i0, int j0, int i1, int j1, int k, int section, int g) {
+    addQuad({node(i0, j0, k), node(i1, j1, k), node(i1, j1, k + 1), node(i0, j0, k + 1)}, section, g);
   }
-  // Slabs (mass only over the clear interior between the walls' faces).
-  for (size_t l = 0; l < levels.size(); ++l) {
-    if (levels[l].group.empty()) continue;
-    const int g = group(levels[l].group);
-    if (levels[l].z > 1e-9 || std::abs(levels[l].z) <= 1e-9) mesh.slab_levels_m.push_back(levels[l].z);
-    const double ht = 0.5 * levels[l].support_t;
-    const int k = level_k[l];
-    for (int i = 0; i < nx; ++i) {
-      for (int j = 0; j < ny; ++j) {
-        const double area = (xs[i + 1] - xs[i]) * (ys[j + 1] - ys[j]);
-        const double clear = overlap(xs[i], xs[i + 1], mesh.x0_m + ht, mesh.x1_m - ht) *
-                             overlap(ys[j], ys[j + 1], mesh.y0_m + ht, mesh.y1_m - ht);
-        mesh.elements.push_back({{node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)},
-                                 levels[l].section,
-                                 g,
-                                 clear / area});
+
+  // One element of an exterior wall (of the foundation box below ground), unless in an opening.
+  void addWallElement(const std::string& wall, bool below, double s, double zc, int i0, int j0, int i1, int j1, int k) {
+    if (!below && inOpening(wall, s, zc)) return;
+    addVerticalQuad(i0, j0, i1, j1, k, below ? kFoundationWall : kMasonry,
+                    group(below ? "foundation_walls" : "wall_" + wall));
+  }
+
+  void addExteriorWalls() {
+    for (size_t k = 0; k + 1 < zs_.size(); ++k) {
+      const bool below = zs_[k + 1] <= 1e-9;
+      const double zc = 0.5 * (zs_[k] + zs_[k + 1]);
+      const int kk = static_cast<int>(k);
+      for (int i = 0; i < nx_; ++i) {
+        const double xc = 0.5 * (xs_[i] + xs_[i + 1]);
+        addWallElement("front", below, xc, zc, i, 0, i + 1, 0, kk);
+        addWallElement("back", below, xc, zc, i, ny_, i + 1, ny_, kk);
+      }
+      for (int j = 0; j < ny_; ++j) {
+        const double yc = 0.5 * (ys_[j] + ys_[j + 1]);
+        addWallElement("left", below, yc, zc, 0, j, 0, j + 1, kk);
+        addWallElement("right", below, yc, zc, nx_, j, nx_, j + 1, kk);
       }
     }
   }
-  return mesh;
-}
+
+  // Interior walls: masonry, from the ground slab to the top of the walls, on the nearest mesh line.
+  // (Their crossing with the slabs is counted twice in the mass: t_wall x t_slab per metre, documented.)
+  void addInteriorWalls() {
+    const int k_ground = level_k_[1];
+    const int k_top = static_cast<int>(zs_.size()) - 1;
+    for (const InteriorWall& w : p_.interior_walls) {
+      const int g = group(w.along == "x" ? "wall_interior_x" : "wall_interior_y");
+      if (w.along == "x") {
+        const int j = static_cast<int>(std::lround((w.position_m - mesh_.y0_m) / (mesh_.y1_m - mesh_.y0_m) * ny_));
+        if (j <= 0 || j >= ny_) continue;
+        for (int k = k_ground; k < k_top; ++k)
+          for (int i = 0; i < nx_; ++i) addVerticalQuad(i, j, i + 1, j, k, kMasonry, g);
+      } else {
+        const int i = static_cast<int>(std::lround((w.position_m - mesh_.x0_m) / (mesh_.x1_m - mesh_.x0_m) * nx_));
+        if (i <= 0 || i >= nx_) continue;
+        for (int k = k_ground; k < k_top; ++k)
+          for (int j = 0; j < ny_; ++j) addVerticalQuad(i, j, i, j + 1, k, kMasonry, g);
+      }
+    }
+  }
+
+  // Slabs (mass only over the clear interior between the walls' faces).
+  void addSlabs() {
+    for (size_t l = 0; l < levels_.size(); ++l) {
+      if (levels_[l].group.empty()) continue;
+      const int g = group(levels_[l].group);
+      if (levels_[l].z > 1e-9 || std::abs(levels_[l].z) <= 1e-9) mesh_.slab_levels_m.push_back(levels_[l].z);
+      const double ht = 0.5 * levels_[l].support_t;
+      const int k = level_k_[l];
+      for (int i = 0; i < nx_; ++i) {
+        for (int j = 0; j < ny_; ++j) {
+          const double area = (xs_[i + 1] - xs_[i]) * (ys_[j + 1] - ys_[j]);
+          const double clear = overlap(xs_[i], xs_[i + 1], mesh_.x0_m + ht, mesh_.x1_m - ht) *
+                               overlap(ys_[j], ys_[j + 1], mesh_.y0_m + ht, mesh_.y1_m - ht);
+          addQuad({node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)}, levels_[l].section, g,
+                  clear / area);
+        }
+      }
+    }
+  }
+
+  const BuildingParams& p_;
+  BuildingMesh mesh_;
+  int nx_ = 0, ny_ = 0;
+  std::vector<double> xs_, ys_, zs_;
+  std::vector<Level> levels_;
+  std::vector<int> level_k_;
+  std::map<std::tuple<int, int, int>, int> ids_;
+};
+
+}  // namespace
+
+BuildingMesh buildMesh(const BuildingParams& p) { return MeshBuilder(p).build(); }
 
 double handComputedMass(const BuildingParams& p) {
   const double lm = p.length_m - p.wall_thickness_m;  // mid-line rectangle
@@ -199,14 +225,30 @@ std::vector<FootprintPoint> footprintPoints(const BuildingParams& p) {
   for (int j = 0; j < p.footprint_ny; ++j) {
     for (int i = 0; i < p.footprint_nx; ++i) {
       FootprintPoint f;
-      f.name = "footprint_" + std::to_string(i) + "_" + std::to_string(j);
+      f.name = names::footprintPoint(i, j);
       f.x_building_m = x0 + (x1 - x0) * i / (p.footprint_nx - 1);
       f.y_building_m = y0 + (y1 - y0) * j / (p.footprint_ny - 1);
-      f.x_track_m = p.origin_x_track_m + f.x_building_m;
-      f.y_track_m = p.origin_y_track_m + f.y_building_m;
+      f.x_track_m = p.placement.trackX(f.x_building_m);
+      f.y_track_m = p.placement.trackY(f.y_building_m);
       f.z_track_m = 0.0;
       out.push_back(f);
     }
+  }
+  return out;
+}
+
+std::vector<NamedPoint> freeFieldPoints(const BuildingParams& p) {
+  const BuildingPlacement& at = p.placement;
+  std::vector<NamedPoint> out;
+  for (int row = 0; row < 3; ++row) {
+    for (int column = 0; column < 3; ++column) {
+      out.push_back({names::buildingPlanPoint(row, column), at.origin_x_m + 0.5 * at.length_m * column,
+                     at.origin_y_m + 0.5 * at.width_m * row, 0.0});
+    }
+  }
+  if (!p.response_points.empty()) {
+    const NamedPoint& r = p.response_points.front();
+    out.push_back({names::kBuildingResponseFreeFieldPoint, at.trackX(r.x_m), at.trackY(r.y_m), 0.0});
   }
   return out;
 }

@@ -47,8 +47,9 @@ NamedPoint loadPoint(const ConfigNode& node, const BuildingParams& p) {
 BuildingParams loadBuildingParams(const ConfigNode& root) {
   BuildingParams p;
   const ConfigNode b = root.section("building");
-  p.length_m = b.number("length_m", Range::positive());
-  p.width_m = b.number("width_m", Range::positive());
+  p.placement = loadBuildingPlacement(root);
+  p.length_m = p.placement.length_m;
+  p.width_m = p.placement.width_m;
   p.height_m = b.number("height_m", Range::positive());
   p.storeys = static_cast<int>(b.integer("storeys", 1, 20));
   p.roof_slab = b.flag("roof_slab", false);
@@ -144,15 +145,6 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
       w.position_m = n.number("position_m", Range::open(p.wall_thickness_m, span - p.wall_thickness_m));
       p.interior_walls.push_back(w);
     }
-  }
-  if (root.has("site")) {
-    const ConfigNode site = root.section("site");
-    const double gauge = site.number("rail_gauge_m", Range::positive());
-    const ConfigNode sb = site.section("building");
-    const double dist = sb.number("front_wall_distance_from_rail_m", Range::nonNegative());
-    const double cx = sb.number("center_x_m", Range::any());
-    p.origin_x_track_m = cx - 0.5 * p.length_m;
-    p.origin_y_track_m = 0.5 * gauge + dist;
   }
   return p;
 }

@@ -29,8 +29,8 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
   const ConfigNode bld = root.section("building");
   const ConfigNode site_building = root.section("site").section("building");
   // Placement: the foundation box in the track frame (x, y; depth below the surface).
-  const double x0 = bp.origin_x_track_m, x1 = x0 + bp.length_m;
-  const double y0 = bp.origin_y_track_m, y1 = y0 + bp.width_m;
+  const double x0 = bp.placement.origin_x_m, x1 = x0 + bp.length_m;
+  const double y0 = bp.placement.origin_y_m, y1 = y0 + bp.width_m;
   const double depth = bp.foundation_depth_m;
   const std::unique_ptr<soil::SoilBoundary> boundary = soil::makeSoilBoundary(sp.solver.boundary);
   const double zone = boundary->zoneThicknessM();
@@ -45,7 +45,7 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
         .fail("depth_m", "the foundation reaches below the soil mesh (depth " + str(sp.mesh.depth_m) +
                              " m, absorbing zone included)");
   }
-  const double sleeper_half_length = 0.5 * sp.sleeper_length_m;
+  const double sleeper_half_length = 0.5 * sp.track.length_m;
   if (y0 <= sleeper_half_length) {
     site_building.fail("front_wall_distance_from_rail_m",
                        "the house's front wall (y = " + str(y0) +

@@ -6,6 +6,8 @@
 
 #include <stdexcept>
 
+#include "railvib/common/names.hpp"
+
 namespace railvib::ros_io {
 
 BagReplay::BagReplay(ros::NodeHandle& nh, ros::NodeHandle& private_nh) : nh_(nh) {
@@ -36,7 +38,7 @@ BagReplay::BagReplay(ros::NodeHandle& nh, ros::NodeHandle& private_nh) : nh_(nh)
   } catch (const rosbag::BagException& e) {
     throw std::runtime_error("bag " + bag_path_ + " is unreadable: " + e.what());
   }
-  if (publish_clock_) clock_publisher_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100);
+  if (publish_clock_) clock_publisher_ = nh_.advertise<rosgraph_msgs::Clock>(names::kClockTopic, 100);
 }
 
 void BagReplay::run() {

@@ -2,25 +2,25 @@
 
 #include <algorithm>
 
+#include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
 
 BuildingNode::BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
   const building::BuildingParams params = building::loadBuildingParams(config.root());
-  origin_x_m_ = params.origin_x_track_m;
-  origin_y_m_ = params.origin_y_track_m;
+  placement_ = params.placement;
   model_ = std::make_unique<building::BuildingModel>(params);
   footprint_ = building::footprintPoints(params);
-  status_ = std::make_unique<NodeStatus>(nh, "building",
-                                         config.section("simulation").number("duration_s", Range::positive()));
+  status_ = std::make_unique<NodeStatus>(nh, "building", vehicle::loadPassageParams(config.root()).duration_s);
   int required_subscribers = 1;
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
-  publisher_ = BlockPublisher<railvib::BuildingResponse>(nh, "building_response", required_subscribers);
-  layout_publisher_ = nh.advertise<railvib::PointLayout>("building_points", 1, true);
-  layout_subscriber_ = nh.subscribe("surface_points", 1, &BuildingNode::onLayout, this);
-  velocity_subscriber_ = nh.subscribe("surface_velocities", 0, &BuildingNode::onVelocities, this);
+  publisher_ = BlockPublisher<railvib::BuildingResponse>(nh, names::kBuildingResponseTopic, required_subscribers);
+  layout_publisher_ = nh.advertise<railvib::PointLayout>(names::kBuildingPointsTopic, 1, true);
+  layout_subscriber_ = nh.subscribe(names::kSurfacePointsTopic, 1, &BuildingNode::onLayout, this);
+  velocity_subscriber_ = nh.subscribe(names::kSurfaceVelocitiesTopic, 0, &BuildingNode::onVelocities, this);
   ROS_INFO("building: %zu footprint points, mass %.0f kg", footprint_.size(), model_->totalMass());
 }
 
@@ -53,12 +53,12 @@ void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
   if (!solver_) {
     solver_ = std::make_unique<building::BuildingResponseSolver>(*model_, msg.sample_period_s);
     railvib::PointLayout layout;
-    layout.header.frame_id = "track";
+    layout.header.frame_id = names::kTrackFrame;
     for (const auto& p : solver_->responsePoints()) {
       layout.names.push_back(p.name);
       geometry_msgs::Point q;
-      q.x = origin_x_m_ + p.position.x();
-      q.y = origin_y_m_ + p.position.y();
+      q.x = placement_.trackX(p.position.x());
+      q.y = placement_.trackY(p.position.y());
       q.z = p.position.z();
       layout.positions.push_back(q);
     }
@@ -74,7 +74,7 @@ void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
   }
   const Eigen::MatrixXd output = solver_->process(msg.first_sample_index, input);
   railvib::BuildingResponse block;
-  block.header.frame_id = "track";
+  block.header.frame_id = names::kTrackFrame;
   block.header.stamp = msg.header.stamp;
   block.first_sample_index = msg.first_sample_index;
   block.end_of_stream = msg.end_of_stream;
@@ -87,6 +87,7 @@ void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
   }
   publisher_.publish(block);
   status_->countSamples("surface_velocities in", msg.sample_count);
+  status_->countSamples("building_response out", msg.sample_count);
   const double t = static_cast<double>(msg.first_sample_index + msg.sample_count) * msg.sample_period_s;
   ended_ = msg.end_of_stream;
   status_->update(t, ended_);

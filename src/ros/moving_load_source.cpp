@@ -2,27 +2,27 @@
 
 #include <cmath>
 
+#include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
 
 MovingLoadSourceNode::MovingLoadSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
-  const auto simulation = config.section("simulation");
-  const auto vehicle = config.section("vehicle");
-  dt_s_ = simulation.number("time_step_s", Range::positive());
-  const double duration_s = simulation.number("duration_s", Range::positive());
-  total_samples_ = static_cast<uint64_t>(std::llround(duration_s / dt_s_)) + 1;
-  source_.front_start_m = simulation.number("front_axle_start_m", Range::any());
-  source_.speed_m_s = simulation.number("speed_m_s", Range::nonNegative());
-  source_.offsets_behind_m = vehicle.numbers("axle_offsets_m", Range::nonNegative(), 1);
-  source_.forces_n = track::staticWheelLoadsPerRail(vehicle);
+  const vehicle::PassageParams run = vehicle::loadPassageParams(config.root());
+  dt_s_ = run.time_step_s;
+  total_samples_ = static_cast<uint64_t>(std::llround(run.duration_s / dt_s_)) + 1;
+  source_.front_start_m = run.front_axle_start_m;
+  source_.speed_m_s = run.speed_m_s;
+  source_.offsets_behind_m = vehicle::loadVehicleParams(config.root()).axle_offsets_m;
+  source_.forces_n = track::staticWheelLoadsPerRail(config.section("vehicle"));
   int block_samples = 1000;
   int required_subscribers = 1;
   private_nh.param("block_samples", block_samples, block_samples);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
-  publisher_ = BlockPublisher<railvib::ContactForces>(nh, "contact_forces", required_subscribers);
+  publisher_ = BlockPublisher<railvib::ContactForces>(nh, names::kContactForcesTopic, required_subscribers);
 }
 
 void MovingLoadSourceNode::run() {
@@ -30,7 +30,7 @@ void MovingLoadSourceNode::run() {
   for (uint64_t first = 0; first < total_samples_ && ros::ok(); first += block_samples_) {
     const size_t count = static_cast<size_t>(std::min<uint64_t>(block_samples_, total_samples_ - first));
     railvib::ContactForces block;
-    block.header.frame_id = "track";
+    block.header.frame_id = names::kTrackFrame;
     block.header.stamp = ros::Time(static_cast<double>(first) * dt_s_);
     block.first_sample_index = first;
     block.end_of_stream = first + count == total_samples_;

@@ -1,11 +1,13 @@
 #include "railvib/ros/node_status.hpp"
 
+#include "railvib/common/names.hpp"
+
 namespace railvib::ros_io {
 
 NodeStatus::NodeStatus(ros::NodeHandle& nh, std::string node_name, double total_sim_s)
     : name_(std::move(node_name)),
       progress_(name_, total_sim_s),
-      publisher_(nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10)),
+      publisher_(nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 10)),
       last_publish_(ros::WallTime::now()) {}
 
 void NodeStatus::update(double sim_time_s, bool force) {

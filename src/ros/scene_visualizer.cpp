@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "railvib/building/params.hpp"
+#include "railvib/common/names.hpp"
 #include "railvib/common/site.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/ros/tram_display.hpp"
@@ -74,7 +75,7 @@ void addBoxEdges(Marker& lines, double x0, double y0, double z0, double x1, doub
 }
 
 void addSensor(visualization_msgs::MarkerArray& out, const std::string& name, int& id) {
-  const std::string frame = "sensor_" + name;
+  const std::string frame = names::sensorFrame(name);
   Marker sphere = marker(frame, "sensors", id++, Marker::SPHERE);
   sphere.scale.x = sphere.scale.y = sphere.scale.z = 0.5;
   sphere.color = colour(1.0f, 0.85f, 0.0f);
@@ -90,28 +91,28 @@ void addSensor(visualization_msgs::MarkerArray& out, const std::string& name, in
 
 SceneVisualizer::SceneVisualizer(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
-  rail_gauge_m_ = loadSiteLayout(config).rail_gauge_m;
+  rail_gauge_m_ = loadSiteLayout(config.root()).rail_gauge_m;
   site_markers_ = siteMarkers(config);
   private_nh.param("relief_m_per_mm_s", relief_m_per_mm_s_, relief_m_per_mm_s_);
-  site_publisher_ = nh.advertise<visualization_msgs::MarkerArray>("visualization/site", 1, true);
-  cloud_publisher_ = nh.advertise<sensor_msgs::PointCloud2>("visualization/surface_velocity", 10);
+  site_publisher_ = nh.advertise<visualization_msgs::MarkerArray>(names::kSiteMarkersTopic, 1, true);
+  cloud_publisher_ = nh.advertise<sensor_msgs::PointCloud2>(names::kSurfaceCloudTopic, 10);
   publishSite();
-  layout_subscriber_ = nh.subscribe("sleeper_layout", 1, &SceneVisualizer::onLayout, this);
-  snapshot_subscriber_ = nh.subscribe("surface_snapshot", 10, &SceneVisualizer::onSnapshot, this);
+  layout_subscriber_ = nh.subscribe(names::kSleeperLayoutTopic, 1, &SceneVisualizer::onLayout, this);
+  snapshot_subscriber_ = nh.subscribe(names::kSurfaceSnapshotTopic, 10, &SceneVisualizer::onSnapshot, this);
 }
 
 visualization_msgs::MarkerArray SceneVisualizer::siteMarkers(const Config& config) {
   visualization_msgs::MarkerArray out;
-  const SiteLayout site = loadSiteLayout(config);
+  const SiteLayout site = loadSiteLayout(config.root());
   int id = 0;
 
   // The house: one translucent volume and the edges of each storey (frame `building`).
   if (config.root().has("building")) {
     const building::BuildingParams house = building::loadBuildingParams(config.root());
-    out.markers.push_back(box("building", "building", id++, 0.5 * house.length_m, 0.5 * house.width_m,
+    out.markers.push_back(box(names::kBuildingFrame, "building", id++, 0.5 * house.length_m, 0.5 * house.width_m,
                               0.5 * house.height_m, house.length_m, house.width_m, house.height_m,
                               colour(0.85f, 0.75f, 0.6f, 0.25f)));
-    Marker edges = marker("building", "building_edges", id++, Marker::LINE_LIST);
+    Marker edges = marker(names::kBuildingFrame, "building_edges", id++, Marker::LINE_LIST);
     edges.scale.x = 0.06;
     edges.color = colour(0.95f, 0.9f, 0.8f);
     const double storey_height_m = house.height_m / house.storeys;
@@ -119,17 +120,14 @@ visualization_msgs::MarkerArray SceneVisualizer::siteMarkers(const Config& confi
       addBoxEdges(edges, 0.0, 0.0, s * storey_height_m, house.length_m, house.width_m, (s + 1) * storey_height_m);
     }
     out.markers.push_back(edges);
-    out.markers.push_back(box("building", "building_foundation", id++, 0.5 * house.length_m, 0.5 * house.width_m,
-                              -0.5 * house.foundation_depth_m, house.length_m, house.width_m, house.foundation_depth_m,
-                              colour(0.5f, 0.5f, 0.5f, 0.35f)));
+    out.markers.push_back(box(names::kBuildingFrame, "building_foundation", id++, 0.5 * house.length_m,
+                              0.5 * house.width_m, -0.5 * house.foundation_depth_m, house.length_m, house.width_m,
+                              house.foundation_depth_m, colour(0.5f, 0.5f, 0.5f, 0.35f)));
   }
 
-  // Sensors: the free-field ones from `site`, the house ones from `virtual_sensors`.
-  for (const auto& s : site.ground_sensors) addSensor(out, s.name, id);
+  // Sensors: every virtual sensor, in its frame (site_frames_node).
   if (config.root().has("virtual_sensors")) {
-    for (const auto& s : signal::loadVirtualSensorConfig(config.root()).sensors) {
-      if (s.source == "building") addSensor(out, s.spec.name, id);
-    }
+    for (const auto& s : signal::loadVirtualSensorConfig(config.root()).sensors) addSensor(out, s.spec.name, id);
   }
 
   // The tram, frame-locked to tram/<body> so each body follows its tf pose.
@@ -139,7 +137,7 @@ visualization_msgs::MarkerArray SceneVisualizer::siteMarkers(const Config& confi
     const std::vector<CarbodySection> sections = carbodySections(params);
     const double half_gauge_m = 0.5 * site.rail_gauge_m;
     for (const vehicle::BodyInfo& body : model.bodies()) {
-      const std::string frame = "tram/" + body.name;
+      const std::string frame = names::tramBodyFrame(body.name);
       std::vector<Marker> parts;
       switch (body.kind) {
         case vehicle::BodyKind::Carbody: {
@@ -193,10 +191,11 @@ visualization_msgs::MarkerArray SceneVisualizer::trackMarkers(const railvib::Sle
   constexpr double kRailHeightM = 0.15, kSleeperDepthM = 0.2;
   int id = 0;
   for (const double y : {-0.5 * rail_gauge_m, 0.5 * rail_gauge_m}) {
-    out.markers.push_back(box("track", "rails", id++, 0.5 * (x0 + x1), y, kRailHeadDisplayZM - 0.5 * kRailHeightM,
-                              x1 - x0, 0.07, kRailHeightM, colour(0.75f, 0.75f, 0.8f)));
+    out.markers.push_back(box(names::kTrackFrame, "rails", id++, 0.5 * (x0 + x1), y,
+                              kRailHeadDisplayZM - 0.5 * kRailHeightM, x1 - x0, 0.07, kRailHeightM,
+                              colour(0.75f, 0.75f, 0.8f)));
   }
-  Marker sleepers = marker("track", "sleepers", id++, Marker::CUBE_LIST);
+  Marker sleepers = marker(names::kTrackFrame, "sleepers", id++, Marker::CUBE_LIST);
   sleepers.scale.x = layout.width_m;
   sleepers.scale.y = layout.length_m;
   sleepers.scale.z = kSleeperDepthM;

@@ -5,46 +5,58 @@
 #include "railvib/PointLayout.h"
 #include "railvib/building/model.hpp"
 #include "railvib/building/params.hpp"
+#include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/track/track_model.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
 
 SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
-  params_ = soil::loadSoilParams(config.root());
-  duration_s_ = config.section("simulation").number("duration_s", Range::positive());
   bool include_footprint = true;
   int required_subscribers = 1;
   private_nh.param("include_building_footprint", include_footprint, include_footprint);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  params_ = soil::loadSoilParams(config.root(), houseReceivers(config.root(), include_footprint));
+  load_sample_rate_hz_ = track::loadTrackParams(config.root()).load_sample_rate_hz;
+  status_ = std::make_unique<NodeStatus>(nh, "soil", vehicle::loadPassageParams(config.root()).duration_s);
+  velocity_publisher_ =
+      BlockPublisher<railvib::SurfaceVelocities>(nh, names::kSurfaceVelocitiesTopic, required_subscribers);
+  layout_publisher_ = nh.advertise<railvib::PointLayout>(names::kSurfacePointsTopic, 1, true);
+  snapshot_publisher_ = nh.advertise<railvib::SurfaceSnapshot>(names::kSurfaceSnapshotTopic, 0);
+  layout_subscriber_ = nh.subscribe(names::kSleeperLayoutTopic, 1, &SoilNode::onLayout, this);
+  loads_subscriber_ = nh.subscribe(names::kSoilLoadsTopic, 0, &SoilNode::onLoads, this);
+}
+
+soil::HouseReceivers SoilNode::houseReceivers(const ConfigNode& root, bool include_footprint) {
+  soil::HouseReceivers house;
+  if (!root.has("building")) return house;
+  const building::BuildingParams params = building::loadBuildingParams(root);
+  house.free_field = building::freeFieldPoints(params);
+  // The house is driven at its foundation nodes: each becomes a soil receiver.
   if (include_footprint) {
-    // The house is driven at its foundation nodes: each becomes a soil receiver.
-    for (const auto& f : building::footprintPoints(building::loadBuildingParams(config.root()))) {
-      params_.receivers.push_back({f.name, f.x_track_m, f.y_track_m, 0.0});
+    for (const auto& f : building::footprintPoints(params)) {
+      house.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m});
     }
   }
-  status_ = std::make_unique<NodeStatus>(nh, "soil", duration_s_);
-  velocity_publisher_ = BlockPublisher<railvib::SurfaceVelocities>(nh, "surface_velocities", required_subscribers);
-  layout_publisher_ = nh.advertise<railvib::PointLayout>("surface_points", 1, true);
-  snapshot_publisher_ = nh.advertise<railvib::SurfaceSnapshot>("surface_snapshot", 0);
-  layout_subscriber_ = nh.subscribe("sleeper_layout", 1, &SoilNode::onLayout, this);
-  loads_subscriber_ = nh.subscribe("soil_loads", 0, &SoilNode::onLoads, this);
+  return house;
 }
 
 void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
   if (model_) return;
   status_->guard([&] {
-    if (std::abs(layout->length_m - params_.sleeper_length_m) > 1e-9 ||
-        std::abs(layout->width_m - params_.sleeper_width_m) > 1e-9) {
+    if (std::abs(layout->length_m - params_.track.length_m) > 1e-9 ||
+        std::abs(layout->width_m - params_.track.width_m) > 1e-9) {
       throw std::runtime_error("the track's sleeper footprint differs from the soil's (same config expected)");
     }
-    model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m);
+    model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m, load_sample_rate_hz_);
     ROS_INFO_STREAM("soil: " << model_->summary().dump());
     if (!model_->droppedSleepers().empty()) {
       ROS_WARN("soil: %zu sleeper(s) outside the mesh: their loads are ignored", model_->droppedSleepers().size());
     }
     railvib::PointLayout points;
-    points.header.frame_id = "track";
+    points.header.frame_id = names::kTrackFrame;
     for (const auto& r : model_->receivers()) {
       points.names.push_back(r.name);
       geometry_msgs::Point p;
@@ -69,6 +81,11 @@ void SoilNode::consume(const railvib::SoilLoads& msg) {
   if (msg.sleeper_count != model_->sleeperCount() ||
       msg.force_n.size() != static_cast<size_t>(msg.sample_count) * msg.sleeper_count) {
     throw std::runtime_error("malformed SoilLoads block (sleeper count differs from the layout)");
+  }
+  if (std::abs(msg.sample_period_s * load_sample_rate_hz_ - 1.0) > 1e-9) {
+    throw std::runtime_error("soil loads come every " + std::to_string(msg.sample_period_s) +
+                             " s, not at track.output.load_sample_rate_hz = " + std::to_string(load_sample_rate_hz_) +
+                             " Hz");
   }
   model_->pushLoads(msg.first_sample_index, msg.force_n.data(), msg.sample_count);
   status_->countSamples("soil_loads in", msg.sample_count);
@@ -99,7 +116,7 @@ void SoilNode::publishOutputs(bool end_of_stream) {
       throw std::runtime_error("soil receiver frames are not contiguous");
     }
     railvib::SurfaceVelocities block;
-    block.header.frame_id = "track";
+    block.header.frame_id = names::kTrackFrame;
     block.header.stamp = ros::Time(static_cast<double>(next_velocity_index_) / params_.receiver_rate_hz);
     block.first_sample_index = next_velocity_index_;
     block.end_of_stream = end_of_stream;
@@ -115,7 +132,7 @@ void SoilNode::publishOutputs(bool end_of_stream) {
   model_->takeSnapshots(snapshots_);
   for (const auto& s : snapshots_) {
     railvib::SurfaceSnapshot msg;
-    msg.header.frame_id = "track";
+    msg.header.frame_id = names::kTrackFrame;
     msg.header.stamp = ros::Time(s.time_s);
     msg.sample_index = s.index;
     msg.origin_x_m = s.x0_m;

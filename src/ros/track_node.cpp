@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "railvib/SleeperLayout.h"
+#include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 
@@ -10,11 +11,10 @@ namespace railvib::ros_io {
 
 TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
-  const auto track_section = config.section("track");
-  const track::TrackParams params = track::loadTrackParams(track_section);
+  const track::TrackParams params = track::loadTrackParams(config.root());
   // The same `simulation` section as the vehicle (step, duration, speed, start), validated once.
   const vehicle::PassageParams run = vehicle::loadPassageParams(config.root());
-  const double rate_hz = track_section.section("output").number("load_sample_rate_hz", Range::positive());
+  const double rate_hz = params.load_sample_rate_hz;
   // A convected start must match the vehicle's, or the ballast loads differ from the coupled run.
   stream_ = std::make_unique<track::SoilLoadStream>(params, run.time_step_s, rate_hz,
                                                     run.convected_track_start ? run.speed_m_s : 0.0);
@@ -26,17 +26,16 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   block_samples_ = std::max<size_t>(1, static_cast<size_t>(std::lround(block_duration_s * rate_hz)));
 
-  layout_publisher_ = nh.advertise<railvib::SleeperLayout>("sleeper_layout", 1, true);
+  layout_publisher_ = nh.advertise<railvib::SleeperLayout>(names::kSleeperLayoutTopic, 1, true);
   railvib::SleeperLayout layout;
-  layout.header.frame_id = "track";
+  layout.header.frame_id = names::kTrackFrame;
   layout.position_m = stream_->sleeperPositions();
-  const auto sleeper = track_section.section("sleeper");
-  layout.length_m = sleeper.number("length_m", Range::positive());
-  layout.width_m = sleeper.number("width_m", Range::positive());
+  layout.length_m = params.layout.length_m;
+  layout.width_m = params.layout.width_m;
   layout_publisher_.publish(layout);
 
-  loads_publisher_ = BlockPublisher<railvib::SoilLoads>(nh, "soil_loads", required_subscribers);
-  contact_subscriber_ = nh.subscribe("contact_forces", 0, &TrackNode::onContactForces, this);
+  loads_publisher_ = BlockPublisher<railvib::SoilLoads>(nh, names::kSoilLoadsTopic, required_subscribers);
+  contact_subscriber_ = nh.subscribe(names::kContactForcesTopic, 0, &TrackNode::onContactForces, this);
   ROS_INFO("track: %d sleepers, dt %.3g s, soil loads at %.0f Hz in blocks of %zu samples, start %s",
            stream_->sleeperCount(), run.time_step_s, rate_hz, block_samples_,
            run.convected_track_start ? "convected with the loads" : "at rest");
@@ -74,7 +73,7 @@ void TrackNode::publishPending(bool end_of_stream) {
   const size_t consumed = splitIntoBlocks(
       pending_.size() / sleepers, block_samples_, end_of_stream, [&](size_t offset, size_t count, bool last) {
         railvib::SoilLoads block;
-        block.header.frame_id = "track";
+        block.header.frame_id = names::kTrackFrame;
         block.header.stamp = ros::Time(static_cast<double>(next_load_index_) * stream_->loadSamplePeriod());
         block.first_sample_index = next_load_index_;
         block.end_of_stream = last;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/ros/tram_display.hpp"
 #include "railvib/track/track_model.hpp"
@@ -12,41 +13,34 @@ namespace railvib::ros_io {
 
 VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
-  std::string track = "flexible";
   int block_samples = 1000;
   int required_subscribers = 1;
   double tf_period_s = 0.01;
-  private_nh.param("track", track, track);
   private_nh.param("block_samples", block_samples, block_samples);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   private_nh.param("tf_period_s", tf_period_s, tf_period_s);
   int tf_required_subscribers = 0;
   private_nh.param("tf_required_subscribers", tf_required_subscribers, tf_required_subscribers);
   // A tf2_ros::TransformBroadcaster would drop the first poses before the recorder connects.
-  tf_publisher_ = BlockPublisher<tf2_msgs::TFMessage>(nh, "/tf", tf_required_subscribers);
-  if (track != "flexible" && track != "rigid")
-    throw std::runtime_error("~track must be flexible or rigid, not " + track);
+  tf_publisher_ = BlockPublisher<tf2_msgs::TFMessage>(nh, names::kTfTopic, tf_required_subscribers);
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
 
   model_ = std::make_unique<vehicle::VehicleModel>(vehicle::loadVehicleParams(config.root()));
   const vehicle::PassageParams passage_params = vehicle::loadPassageParams(config.root());
-  const track::TrackParams track_params = track::loadTrackParams(config.section("track"));
+  const track::TrackParams track_params = track::loadTrackParams(config.root());
   unevenness_ = std::make_unique<vehicle::Unevenness>(vehicle::loadUnevennessParams(config.root()),
-                                                      track_params.x_min_m, track_params.x_max_m);
-  std::unique_ptr<vehicle::RailSupport> rail;
-  if (track == "rigid") {
-    rail = std::make_unique<vehicle::RigidRail>();
-  } else {
-    rail = std::make_unique<vehicle::FlexibleRail>(track_params, passage_params.time_step_s);
-  }
+                                                      track_params.layout.x_min_m, track_params.layout.x_max_m);
+  const bool rigid = passage_params.vehicle_track == vehicle::VehicleTrack::Rigid;
   vehicle::PassageOptions options;
   options.record_poses = true;
-  passage_ = std::make_unique<vehicle::VehiclePassage>(*model_, *unevenness_, passage_params, std::move(rail), options);
+  passage_ = std::make_unique<vehicle::VehiclePassage>(*model_, *unevenness_, passage_params,
+                                                       vehicle::makeRailSupport(passage_params, track_params), options);
   tf_every_ = std::max<uint64_t>(1, static_cast<uint64_t>(std::llround(tf_period_s / passage_params.time_step_s)));
-  publisher_ = BlockPublisher<railvib::ContactForces>(nh, "contact_forces", required_subscribers);
+  publisher_ = BlockPublisher<railvib::ContactForces>(nh, names::kContactForcesTopic, required_subscribers);
   status_ = std::make_unique<NodeStatus>(nh, "vehicle", passage_params.duration_s);
-  ROS_INFO("vehicle: %d wheels on a %s track, dt %.3g s, %lu samples", model_->wheelCount(), track.c_str(),
-           passage_params.time_step_s, static_cast<unsigned long>(passage_->totalSamples()));
+  ROS_INFO("vehicle: %d wheels on a %s track, dt %.3g s, %lu samples", model_->wheelCount(),
+           rigid ? "rigid" : "flexible", passage_params.time_step_s,
+           static_cast<unsigned long>(passage_->totalSamples()));
 }
 
 void VehicleNode::run() {
@@ -55,7 +49,7 @@ void VehicleNode::run() {
   while (!passage_->finished() && ros::ok()) {
     const size_t n = passage_->advance(block_samples_, block);
     railvib::ContactForces msg;
-    msg.header.frame_id = "track";
+    msg.header.frame_id = names::kTrackFrame;
     msg.header.stamp = ros::Time(static_cast<double>(block.first_index) * dt);
     msg.first_sample_index = block.first_index;
     msg.end_of_stream = passage_->finished();
@@ -82,13 +76,13 @@ void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
     const uint64_t index = block.first_index + k;
     if (index % tf_every_ != 0) continue;
     const double t = block.time_s[k];
-    const double front_x = passage_->params().front_axle_start_m + passage_->params().speed_m_s * t;
+    const double front_x = passage_->frontAxlePosition(t);
     for (int b = 0; b < block.body_count; ++b) {
       const vehicle::BodyPose& pose = block.poses[k * static_cast<size_t>(block.body_count) + static_cast<size_t>(b)];
       geometry_msgs::TransformStamped tf;
       tf.header.stamp = ros::Time(t);
-      tf.header.frame_id = "track";
-      tf.child_frame_id = "tram/" + bodies[static_cast<size_t>(b)].name;
+      tf.header.frame_id = names::kTrackFrame;
+      tf.child_frame_id = names::tramBodyFrame(bodies[static_cast<size_t>(b)].name);
       tf.transform.translation.x = front_x - pose.offset_m;
       tf.transform.translation.y = 0.0;
       tf.transform.translation.z =

@@ -10,12 +10,24 @@
 #include "railvib/BuildingResponse.h"
 #include "railvib/SurfaceVelocities.h"
 #include "railvib/VibrationMetrics.h"
+#include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
 
 namespace {
 constexpr double kGravity_m_s2 = 9.80665;
+
+using Level = signal::VerdictLevel;
+static_assert(railvib::VibrationMetrics::VERDICT_OK == static_cast<uint8_t>(Level::Ok) &&
+                  railvib::VibrationMetrics::VERDICT_WARN == static_cast<uint8_t>(Level::Warn) &&
+                  railvib::VibrationMetrics::VERDICT_ERROR == static_cast<uint8_t>(Level::Error),
+              "VibrationMetrics verdicts are signal::VerdictLevel values");
+static_assert(diagnostic_msgs::DiagnosticStatus::OK == static_cast<uint8_t>(Level::Ok) &&
+                  diagnostic_msgs::DiagnosticStatus::WARN == static_cast<uint8_t>(Level::Warn) &&
+                  diagnostic_msgs::DiagnosticStatus::ERROR == static_cast<uint8_t>(Level::Error),
+              "diagnostic levels are signal::VerdictLevel values");
 
 template <class Msg>
 VirtualSensorNode::InputBlock asInput(const Msg& msg, uint32_t point_count) {
@@ -33,6 +45,7 @@ VirtualSensorNode::InputBlock asInput(const Msg& msg, uint32_t point_count) {
 VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
   config_ = signal::loadVirtualSensorConfig(config.root());
+  status_ = std::make_unique<NodeStatus>(nh, "virtual_sensor", vehicle::loadPassageParams(config.root()).duration_s);
   bool use_building = true;
   int required_subscribers = 1;
   int block_samples = 100;
@@ -47,17 +60,16 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
     if (setup.source == "building" && !use_building) continue;
     Sensor s;
     s.setup = setup;
-    const std::string base = "sensors/" + setup.spec.name + "/";
-    s.imu = nh.advertise<sensor_msgs::Imu>(base + "imu", 0);
-    s.velocity = nh.advertise<geometry_msgs::Vector3Stamped>(base + "velocity", 0);
-    s.metrics = nh.advertise<railvib::VibrationMetrics>(base + "metrics", 0);
+    s.imu = nh.advertise<sensor_msgs::Imu>(names::sensorTopic(setup.spec.name, "imu"), 0);
+    s.velocity = nh.advertise<geometry_msgs::Vector3Stamped>(names::sensorTopic(setup.spec.name, "velocity"), 0);
+    s.metrics = nh.advertise<railvib::VibrationMetrics>(names::sensorTopic(setup.spec.name, "metrics"), 0);
     sensors_.push_back(std::move(s));
   }
   if (sensors_.empty()) throw std::runtime_error("no virtual sensor configured (virtual_sensors.sensors)");
-  samples_publisher_ = BlockPublisher<railvib::SensorSamples>(nh, "sensor_samples", required_subscribers);
-  diagnostics_publisher_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  samples_publisher_ = BlockPublisher<railvib::SensorSamples>(nh, names::kSensorSamplesTopic, required_subscribers);
+  diagnostics_publisher_ = nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 10);
   // Every sensor's metrics on one topic too, so a recorder needs no sensor names.
-  all_metrics_publisher_ = nh.advertise<railvib::VibrationMetrics>("sensor_metrics", 0);
+  all_metrics_publisher_ = nh.advertise<railvib::VibrationMetrics>(names::kSensorMetricsTopic, 0);
 
   auto has_source = [&](const char* name) {
     return std::any_of(sensors_.begin(), sensors_.end(), [&](const Sensor& s) { return s.setup.source == name; });
@@ -73,11 +85,11 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
     Source& src = add_source("soil");
     Source* raw = &src;
     src.layout_sub = nh.subscribe<railvib::PointLayout>(
-        "surface_points", 1,
+        names::kSurfacePointsTopic, 1,
         boost::function<void(const railvib::PointLayout::ConstPtr&)>(
             [this, raw](const railvib::PointLayout::ConstPtr& m) { onLayout(*raw, *m); }));
     src.data_sub = nh.subscribe<railvib::SurfaceVelocities>(
-        "surface_velocities", 0,
+        names::kSurfaceVelocitiesTopic, 0,
         boost::function<void(const railvib::SurfaceVelocities::ConstPtr&)>(
             [this, raw](const railvib::SurfaceVelocities::ConstPtr& m) {
               raw->gate.run([this, raw, m] { onBlock(*raw, asInput(*m, m->receiver_count)); });
@@ -87,11 +99,11 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
     Source& src = add_source("building");
     Source* raw = &src;
     src.layout_sub = nh.subscribe<railvib::PointLayout>(
-        "building_points", 1,
+        names::kBuildingPointsTopic, 1,
         boost::function<void(const railvib::PointLayout::ConstPtr&)>(
             [this, raw](const railvib::PointLayout::ConstPtr& m) { onLayout(*raw, *m); }));
     src.data_sub = nh.subscribe<railvib::BuildingResponse>(
-        "building_response", 0,
+        names::kBuildingResponseTopic, 0,
         boost::function<void(const railvib::BuildingResponse::ConstPtr&)>(
             [this, raw](const railvib::BuildingResponse::ConstPtr& m) {
               raw->gate.run([this, raw, m] { onBlock(*raw, asInput(*m, m->point_count)); });
@@ -101,45 +113,42 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
            config_.sample_rate_hz, static_cast<unsigned long>(metrics_every_));
 }
 
-void VirtualSensorNode::fail(const std::string& what) {
-  ROS_FATAL("virtual_sensor: %s", what.c_str());
-  failed_ = true;
-  ros::shutdown();
-}
-
 void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& layout) {
   if (source.gate.isOpen()) return;
-  source.point_names = layout.names;
+  status_->guard([&] {
+    source.point_names = layout.names;
+    for (auto& s : sensors_) {
+      if (s.setup.source != source.name) continue;
+      const auto it = std::find(layout.names.begin(), layout.names.end(), s.setup.point);
+      if (it == layout.names.end()) {
+        throw std::runtime_error("sensor " + s.setup.spec.name + ": point '" + s.setup.point + "' is not among the " +
+                                 source.name + " output points");
+      }
+      s.point_index = static_cast<int>(it - layout.names.begin());
+    }
+    source.gate.open();
+  });
+}
+
+void VirtualSensorNode::restartPass(Source& source) {
+  source.ended = false;
+  source.tracker = std::make_unique<SampleIndexTracker>(source.name);
   for (auto& s : sensors_) {
     if (s.setup.source != source.name) continue;
-    const auto it = std::find(layout.names.begin(), layout.names.end(), s.setup.point);
-    if (it == layout.names.end()) {
-      fail("sensor " + s.setup.spec.name + ": point '" + s.setup.point + "' is not among the " + source.name +
-           " output points");
-      return;
-    }
-    s.point_index = static_cast<int>(it - layout.names.begin());
+    s.sensor.reset();
+    s.pending.clear();
+    s.published = 0;
   }
-  source.gate.open();
+  finished_ = false;
+  next_block_index_ = 0;
 }
 
 void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
-  if (failed_) return;
-  if (source.ended && block.first_sample_index == 0) {
-    // A looping replay restarts the stream: start a new pass of this source's sensors.
-    source.ended = false;
-    source.tracker = std::make_unique<SampleIndexTracker>(source.name);
-    for (auto& s : sensors_) {
-      if (s.setup.source != source.name) continue;
-      s.sensor.reset();
-      s.pending.clear();
-      s.published = 0;
-    }
-    finished_ = false;
-    next_block_index_ = 0;
-  }
+  if (status_->failed()) return;
+  // A looping replay restarts the stream: start a new pass of this source's sensors.
+  if (source.ended && block.first_sample_index == 0) restartPass(source);
   if (finished_) return;
-  try {
+  status_->guard([&] {
     if (!source.gate.isOpen()) throw std::runtime_error(source.name + " data arrived before its point layout");
     source.tracker->accept(block.first_sample_index, block.sample_count);
     const size_t expected = static_cast<size_t>(block.sample_count) * block.point_count * 3;
@@ -168,18 +177,22 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
         publishMetrics(s, emitted.back().time_s);
       }
     }
+    const double t_s = static_cast<double>(block.first_sample_index + block.sample_count) * block.sample_period_s;
+    status_->countSamples(source.name + " in", block.sample_count);
+    status_->update(t_s);
     if (block.end_of_stream) source.ended = true;
     const bool all_ended =
         std::all_of(sources_.begin(), sources_.end(), [](const std::unique_ptr<Source>& s) { return s->ended; });
     publishBlocks(all_ended);
-    if (all_ended) finished_ = true;
-  } catch (const std::exception& e) {
-    fail(e.what());
-  }
+    if (all_ended) {
+      finished_ = true;
+      status_->finish(t_s);
+    }
+  });
 }
 
 void VirtualSensorNode::publishSamples(Sensor& s, const std::vector<signal::SensorSample>& samples, size_t from) {
-  const std::string frame = "sensor_" + s.setup.spec.name;
+  const std::string frame = names::sensorFrame(s.setup.spec.name);
   const double g = config_.include_gravity ? kGravity_m_s2 : 0.0;
   const double noise_var = s.setup.spec.noise_rms_m_s2 * s.setup.spec.noise_rms_m_s2;
   for (size_t i = from; i < samples.size(); ++i) {
@@ -211,41 +224,29 @@ void VirtualSensorNode::publishSamples(Sensor& s, const std::vector<signal::Sens
 
 void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
   const signal::MonitorSnapshot m = s.sensor->metrics();
+  // DIN 4150-2 (people in buildings) on KB_Fmax; DIN 4150-3 (structures) counts for house sensors.
+  const signal::SensorVerdict verdict = signal::sensorVerdict(
+      m, config_.night ? signal::Din4150_2Period::Night : signal::Din4150_2Period::Day, s.setup.source == "building");
+  const signal::PpvComponent& governing = verdict.din4150_3.governing;
   railvib::VibrationMetrics msg;
   msg.header.stamp = ros::Time(time_s);
-  msg.header.frame_id = "sensor_" + s.setup.spec.name;
+  msg.header.frame_id = names::sensorFrame(s.setup.spec.name);
   msg.sensor_name = s.setup.spec.name;
   msg.kb_f = m.kb_f.empty() ? 0.0 : *std::max_element(m.kb_f.begin(), m.kb_f.end());
   msg.kb_f_max = m.kb_fmax_all;
   msg.ppv_m_s = m.ppv.vector_peak_mm_s * 1e-3;
-  size_t worst = 2;  // vertical unless another component is closer to its limit
-  for (size_t c = 0; c < m.ppv.components.size(); ++c) {
-    if (m.ppv.components[c].ratio > m.ppv.components[worst].ratio) worst = c;
-  }
   msg.ppv_vertical_m_s = m.ppv.components.size() > 2 ? m.ppv.components[2].ppv_mm_s * 1e-3 : 0.0;
-  msg.dominant_frequency_hz = m.ppv.components.size() > worst ? m.ppv.components[worst].frequency_hz : 0.0;
-  msg.din4150_3_limit_m_s = m.ppv.components.size() > worst ? m.ppv.components[worst].limit_mm_s * 1e-3 : 0.0;
+  msg.governing_component = static_cast<uint8_t>(verdict.din4150_3.governing_component);
+  msg.governing_ppv_m_s = governing.ppv_mm_s * 1e-3;
+  msg.dominant_frequency_hz = governing.frequency_hz;
+  msg.din4150_3_limit_m_s = governing.limit_mm_s * 1e-3;
   for (size_t b = 0; b < m.bands.size(); ++b) {
     msg.third_octave_center_hz.push_back(m.bands[b].nominal_hz);
     msg.third_octave_level_db.push_back(m.third_octave_running_db.size() > 2 ? m.third_octave_running_db[2][b] : 0.0);
   }
-  // Verdicts: DIN 4150-2 (people in buildings) on KB_Fmax; DIN 4150-3 (structures) on PPV for house sensors.
-  const auto guide =
-      signal::din4150_2Residential(config_.night ? signal::Din4150_2Period::Night : signal::Din4150_2Period::Day);
-  uint8_t level = railvib::VibrationMetrics::VERDICT_OK;
-  std::string reason = "within guide values";
-  if (m.kb_fmax_all > guide.a_o) {
-    level = railvib::VibrationMetrics::VERDICT_ERROR;
-    reason = "DIN 4150-2: KB_Fmax above A_o";
-  } else if (m.kb_fmax_all > guide.a_u) {
-    level = railvib::VibrationMetrics::VERDICT_WARN;
-    reason = "DIN 4150-2: KB_Fmax above A_u (KB_FTr check needed)";
-  }
-  if (s.setup.source == "building" && m.ppv.exceeded) {
-    level = railvib::VibrationMetrics::VERDICT_ERROR;
-    reason = "DIN 4150-3: PPV above the residential guideline";
-  }
-  msg.verdict = level;
+  msg.din4150_2_verdict = static_cast<uint8_t>(verdict.din4150_2.level);
+  msg.din4150_3_verdict = static_cast<uint8_t>(verdict.din4150_3.level);
+  msg.verdict = static_cast<uint8_t>(verdict.level);
   s.metrics.publish(msg);
   all_metrics_publisher_.publish(msg);
 
@@ -254,10 +255,9 @@ void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
   diagnostic_msgs::DiagnosticStatus status;
   status.name = "railvib/virtual_sensor/" + s.setup.spec.name;
   status.hardware_id = msg.header.frame_id;
-  status.level = level == railvib::VibrationMetrics::VERDICT_ERROR  ? diagnostic_msgs::DiagnosticStatus::ERROR
-                 : level == railvib::VibrationMetrics::VERDICT_WARN ? diagnostic_msgs::DiagnosticStatus::WARN
-                                                                    : diagnostic_msgs::DiagnosticStatus::OK;
-  status.message = reason;
+  // VerdictLevel has the values of diagnostic_msgs/DiagnosticStatus OK, WARN, ERROR.
+  status.level = msg.verdict;
+  status.message = verdict.reason;
   auto kv = [&](const std::string& k, double v) {
     diagnostic_msgs::KeyValue p;
     p.key = k;
@@ -280,7 +280,7 @@ void VirtualSensorNode::publishBlocks(bool end_of_stream) {
       splitIntoBlocks(ready, block_samples_, end_of_stream, [&](size_t offset, size_t count, bool last) {
         railvib::SensorSamples block;
         block.header.stamp = ros::Time(static_cast<double>(next_block_index_) / config_.sample_rate_hz);
-        block.header.frame_id = "track";
+        block.header.frame_id = names::kTrackFrame;
         block.first_sample_index = next_block_index_;
         block.end_of_stream = last;
         block.sample_period_s = 1.0 / config_.sample_rate_hz;
@@ -295,6 +295,7 @@ void VirtualSensorNode::publishBlocks(bool end_of_stream) {
           }
         }
         samples_publisher_.publish(block);
+        status_->countSamples("sensor_samples out", count);
         next_block_index_ += count;
       });
   for (auto& s : sensors_) s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<long>(consumed));

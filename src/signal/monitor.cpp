@@ -78,4 +78,18 @@ RecordMetrics evaluateRecord(const std::vector<std::vector<double>>& components_
   return r;
 }
 
+SensorVerdict sensorVerdict(const MonitorSnapshot& metrics, Din4150_2Period period, bool on_structure,
+                            std::optional<double> kb_ftr) {
+  SensorVerdict v;
+  v.din4150_2 = din4150_2Verdict(metrics.kb_fmax_all, kb_ftr, period);
+  v.din4150_3 = din4150_3Verdict(metrics.ppv);
+  v.level = v.din4150_2.level;
+  v.reason = v.level == VerdictLevel::Ok ? "within guide values" : "DIN 4150-2: " + v.din4150_2.reason;
+  if (on_structure && !v.din4150_3.met) {
+    v.level = VerdictLevel::Error;
+    v.reason = "DIN 4150-3: PPV above the residential guideline";
+  }
+  return v;
+}
+
 }  // namespace railvib::signal

@@ -101,23 +101,27 @@ double kbFTr(double kb_ftm, double exposure_s, Din4150_2Period period) {
   return kb_ftm * std::sqrt(std::clamp(exposure_s, 0.0, tr) / tr);
 }
 
-Din4150_2Verdict din4150_2Verdict(double kb_fmax, double kb_ftr, Din4150_2Period period) {
+Din4150_2Verdict din4150_2Verdict(double kb_fmax, std::optional<double> kb_ftr, Din4150_2Period period) {
   Din4150_2Verdict v;
   v.guide = din4150_2Residential(period);
   v.kb_fmax = kb_fmax;
-  v.kb_ftr = kb_ftr;
+  v.kb_ftr = kb_ftr.value_or(0.0);
+  auto decide = [&v](bool met, const char* reason) {
+    v.met = met;
+    v.level = met ? VerdictLevel::Ok : VerdictLevel::Error;
+    v.reason = reason;
+  };
   if (kb_fmax <= v.guide.a_u) {
-    v.met = true;
-    v.reason = "KB_Fmax <= A_u";
+    decide(true, "KB_Fmax <= A_u");
   } else if (kb_fmax > v.guide.a_o) {
-    v.met = false;
-    v.reason = "KB_Fmax > A_o";
-  } else if (kb_ftr <= v.guide.a_r) {
-    v.met = true;
-    v.reason = "A_u < KB_Fmax <= A_o and KB_FTr <= A_r";
+    decide(false, "KB_Fmax > A_o");
+  } else if (!kb_ftr) {
+    decide(false, "A_u < KB_Fmax <= A_o: the rating KB_FTr decides");
+    v.level = VerdictLevel::Warn;
+  } else if (*kb_ftr <= v.guide.a_r) {
+    decide(true, "A_u < KB_Fmax <= A_o and KB_FTr <= A_r");
   } else {
-    v.met = false;
-    v.reason = "A_u < KB_Fmax <= A_o and KB_FTr > A_r";
+    decide(false, "A_u < KB_Fmax <= A_o and KB_FTr > A_r");
   }
   return v;
 }
@@ -240,6 +244,24 @@ PpvEvaluation evaluatePpv(const std::vector<std::vector<double>>& components_mm_
     ev.process(frame.data(), 1);
   }
   return ev.evaluation();
+}
+
+size_t governingComponent(const PpvEvaluation& ppv) {
+  const auto& c = ppv.components;
+  size_t worst = c.size() > 2 ? 2 : 0;
+  for (size_t k = 0; k < c.size(); ++k) {
+    if (c[k].ratio > c[worst].ratio) worst = k;
+  }
+  return worst;
+}
+
+Din4150_3Verdict din4150_3Verdict(const PpvEvaluation& ppv) {
+  Din4150_3Verdict v;
+  v.met = !ppv.exceeded;
+  v.level = v.met ? VerdictLevel::Ok : VerdictLevel::Error;
+  v.governing_component = governingComponent(ppv);
+  if (v.governing_component < ppv.components.size()) v.governing = ppv.components[v.governing_component];
+  return v;
 }
 
 }  // namespace railvib::signal

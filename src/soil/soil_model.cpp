@@ -44,7 +44,7 @@ std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n
 
 }  // namespace
 
-SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m,
+SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
                      const std::vector<RigidBodySpec>& bodies)
     : params_(params), sleeper_x_(sleeper_x_m) {
   StructuredMesh mesh = buildMesh(params_.profile, params_.mesh);
@@ -52,7 +52,7 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   for (const RigidBodySpec& b : bodies) solver_->attachRigidBody(b);
   const StructuredMesh& m = solver_->mesh();
   // Sleeper footprints -> consistent nodal loads (downward = +d).
-  const double hl = 0.5 * params_.sleeper_length_m, hw = 0.5 * params_.sleeper_width_m;
+  const double hl = 0.5 * params_.track.length_m, hw = 0.5 * params_.track.width_m;
   std::vector<size_t> outside;
   for (size_t s = 0; s < sleeper_x_.size(); ++s) {
     const double xa = sleeper_x_[s] - hw, xb = sleeper_x_[s] + hw;
@@ -83,7 +83,7 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   dropped_ = outside;
   channel_values_.assign(sleeper_x_.size() - dropped_.size(), 0.0);
   load_eval_.assign(sleeper_x_.size(), 0.0);
-  loads_ = std::make_unique<signal::StreamInterpolator>(params_.load_sample_rate_hz, sleeper_x_.size(), 0.0);
+  loads_ = std::make_unique<signal::StreamInterpolator>(load_sample_rate_hz, sleeper_x_.size(), 0.0);
 
   const double ratio = std::round(1.0 / (solver_->dt() * params_.receiver_rate_hz));
   signal::DecimatorSpec spec;

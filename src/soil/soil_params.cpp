@@ -5,6 +5,8 @@
 #include <memory>
 #include <sstream>
 
+#include "railvib/common/names.hpp"
+
 namespace railvib::soil {
 
 namespace {
@@ -18,20 +20,8 @@ Material readMaterial(const ConfigNode& n) {
   return m;
 }
 
-}  // namespace
-
-std::vector<double> SoilParams::sleeperPositions() const {
-  std::vector<double> x;
-  const double L = sleeper_spacing_m;
-  const long k_first = static_cast<long>(std::ceil((track_x_min_m - sleeper_offset_m) / L - 1e-9));
-  const long k_last = static_cast<long>(std::floor((track_x_max_m - sleeper_offset_m) / L + 1e-9));
-  for (long k = k_first; k <= k_last; ++k) x.push_back(sleeper_offset_m + static_cast<double>(k) * L);
-  return x;
-}
-
-SoilParams loadSoilParams(const ConfigNode& root) {
-  SoilParams p;
-  const ConfigNode soil = root.section("soil");
+// soil.layers, soil.half_space, soil.rayleigh_beta_s, soil.damping.
+void readProfileAndDamping(const ConfigNode& soil, SoilParams& p) {
   for (const ConfigNode& l : soil.sectionList("layers")) {
     Layer layer;
     layer.thickness_m = l.number("thickness_m", Range::open(0.0, 1e4));
@@ -42,12 +32,14 @@ SoilParams loadSoilParams(const ConfigNode& root) {
   hs.material = readMaterial(soil.section("half_space"));
   p.profile.push_back(hs);
   p.solver.rayleigh_beta_s = soil.number("rayleigh_beta_s", Range{0.0, 1.0, false, true});
-
   if (soil.has("damping")) {
     const ConfigNode d = soil.section("damping");
     p.solver.damping_cutoff_hz = d.number("filter_cutoff_hz", Range::open(0.0, 1e5), 300.0);
   }
-  const ConfigNode mesh = soil.section("mesh");
+}
+
+// soil.mesh: the box, resolution, precision, threads, memory cap.
+void readMesh(const ConfigNode& mesh, SoilParams& p) {
   p.mesh.f_max_hz = mesh.number("f_max_hz", Range::open(0.0, 1e4), 60.0);
   p.mesh.elements_per_wavelength = mesh.number("elements_per_wavelength", Range::closed(4.0, 100.0), 8.0);
   p.mesh.x_min_m = mesh.number("x_min_m", Range::open(-1e5, 1e5));
@@ -64,19 +56,33 @@ SoilParams loadSoilParams(const ConfigNode& root) {
   p.solver.threads = static_cast<int>(mesh.integer("threads", 0, 256, 0));
   p.solver.kernel = kernelFromName(mesh.choice("kernel", {"element"}, "element"));
   p.max_memory_gb = mesh.number("max_memory_gb", Range::open(0.0, 1e4), 12.0);
+}
 
-  const ConfigNode b = soil.section("boundary");
+// The boundary's absorbing zone (e.g. a graded layer): receivers and loads stay out of it.
+struct AbsorbingZone {
+  double thickness_m = 0.0;
+  bool bottom = false;
+  std::string key;  // soil.boundary.<method>
+};
+
+AbsorbingZone absorbingZone(const SolverOptions& s) {
+  const std::unique_ptr<SoilBoundary> boundary = makeSoilBoundary(s.boundary);
+  return {boundary->zoneThicknessM(), boundary->zoneAlongBottom(), boundaryMethodName(s.boundary.method)};
+}
+
+// soil.boundary: the method and its parameters; its absorbing zone must leave room in the box.
+void readBoundary(const ConfigNode& b, SoilParams& p) {
   p.solver.boundary = loadBoundarySpec(b);
-  const std::unique_ptr<SoilBoundary> boundary = makeSoilBoundary(p.solver.boundary);
-  // The zone where the boundary alters the physics (e.g. a layer): receivers and loads stay out of it.
-  const double layer = boundary->zoneThicknessM();
-  const bool layer_bottom = boundary->zoneAlongBottom();
-  const std::string layer_key = boundaryMethodName(p.solver.boundary.method);
+  const AbsorbingZone zone = absorbingZone(p.solver);
+  const double layer = zone.thickness_m;
   if (layer > 0.0 && (2.0 * layer >= p.mesh.x_max_m - p.mesh.x_min_m ||
-                      2.0 * layer >= p.mesh.y_max_m - p.mesh.y_min_m || (layer_bottom && layer >= p.mesh.depth_m))) {
-    b.section(layer_key).fail("thickness_m", "the absorbing zone would fill the soil box");
+                      2.0 * layer >= p.mesh.y_max_m - p.mesh.y_min_m || (zone.bottom && layer >= p.mesh.depth_m))) {
+    b.section(zone.key).fail("thickness_m", "the absorbing zone would fill the soil box");
   }
+}
 
+// soil.output rates, soil.loads.
+void readOutputAndLoads(const ConfigNode& soil, SoilParams& p) {
   const ConfigNode out = soil.section("output");
   p.receiver_rate_hz = out.number("receiver_rate_hz", Range::open(0.0, 1e6), 1000.0);
   p.snapshot_rate_hz = out.number("snapshot_rate_hz", Range::open(0.0, 1e6), 100.0);
@@ -90,28 +96,22 @@ SoilParams loadSoilParams(const ConfigNode& root) {
     p.section_enabled = section.flag("enabled", true);
     p.section_x_m = section.number("x_m", Range::open(p.mesh.x_min_m, p.mesh.x_max_m));
   }
-  p.loads_outside_mesh = soil.section("loads").choice("outside_mesh", {"error", "drop"}, "error");
-  p.start_from_static = soil.section("loads").flag("start_from_static", true);
+  const ConfigNode loads = soil.section("loads");
+  p.loads_outside_mesh = loads.choice("outside_mesh", {"error", "drop"}, "error");
+  p.start_from_static = loads.flag("start_from_static", true);
+}
 
-  // Track: sleeper footprint and positions, load rate.
-  const ConfigNode track = root.section("track");
-  const ConfigNode sl = track.section("sleeper");
-  p.sleeper_spacing_m = sl.number("spacing_m", Range::open(0.0, 100.0));
-  p.sleeper_length_m = sl.number("length_m", Range::open(0.0, 100.0));
-  p.sleeper_width_m = sl.number("width_m", Range::open(0.0, 100.0));
-  p.sleeper_offset_m = sl.number("offset_m", Range::any(), 0.0);
-  p.track_x_min_m = track.section("extent").number("x_min_m", Range::open(-1e5, 1e5));
-  p.track_x_max_m = track.section("extent").number("x_max_m", Range::open(-1e5, 1e5));
-  p.load_sample_rate_hz = track.section("output").number("load_sample_rate_hz", Range::open(0.0, 1e7), 2000.0);
-  p.duration_s = root.section("simulation").number("duration_s", Range::open(0.0, 1e5));
+void addPoints(const std::vector<NamedPoint>& points, const std::string& origin, SoilParams& p) {
+  for (const NamedPoint& q : points) p.receivers.push_back({q.name, q.x_m, q.y_m, q.z_m, origin});
+}
 
-  // Receivers: ground sensors, a line perpendicular to the track, building footprint points.
-  const ConfigNode site = root.section("site");
-  std::vector<std::string> origin;
-  for (const ConfigNode& s : site.sectionList("ground_sensors")) {
-    p.receivers.push_back({s.text("name"), s.number("x_m", Range::any()), s.number("y_m", Range::any()), 0.0});
-    origin.push_back(s.keyPath());
+// Ground sensors, the line perpendicular to the track (soil.output.receiver_line), the house's.
+void collectReceivers(const ConfigNode& root, const HouseReceivers& house, SoilParams& p) {
+  const SiteLayout site = loadSiteLayout(root);
+  for (size_t i = 0; i < site.ground_sensors.size(); ++i) {
+    addPoints({site.ground_sensors[i]}, "site.ground_sensors[" + std::to_string(i) + "]", p);
   }
+  const ConfigNode out = root.section("soil").section("output");
   if (out.has("receiver_line")) {
     const ConfigNode line = out.section("receiver_line");
     const double x = line.number("x_m", Range::any());
@@ -122,56 +122,41 @@ SoilParams loadSoilParams(const ConfigNode& root) {
     const long n = static_cast<long>(std::floor((y1 - y0) / step + 1e-9));
     for (long i = 0; i <= n; ++i) {
       const double y = y0 + step * static_cast<double>(i);
-      std::ostringstream name;
-      name << "line_y" << y;
-      p.receivers.push_back({name.str(), x, y, 0.0});
-      origin.push_back(line.keyPath());
+      p.receivers.push_back({names::receiverLinePoint(y), x, y, 0.0, line.keyPath()});
     }
   }
-  if (out.flag("building_receivers", true) && root.has("building")) {
-    const ConfigNode bsite = site.section("building");
-    const double gauge = site.number("rail_gauge_m", Range::open(0.0, 10.0));
-    const double front = 0.5 * gauge + bsite.number("front_wall_distance_from_rail_m", Range::nonNegative());
-    const double cx = bsite.number("center_x_m", Range::any());
-    const ConfigNode bld = root.section("building");
-    const double len = bld.number("length_m", Range::open(0.0, 1e3));
-    const double wid = bld.number("width_m", Range::open(0.0, 1e3));
-    // Corners, wall mid-points, centre, and the paper's response point (3/4 along, mid-width).
-    const char* names[] = {"bldg_front_left", "bldg_front_mid", "bldg_front_right", "bldg_mid_left",  "bldg_centre",
-                           "bldg_mid_right",  "bldg_back_left", "bldg_back_mid",    "bldg_back_right"};
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) {
-        p.receivers.push_back({names[r * 3 + c], cx - 0.5 * len + 0.5 * len * c, front + 0.5 * wid * r, 0.0});
-        origin.push_back(bsite.keyPath());
-      }
-    }
-    p.receivers.push_back({"bldg_response_point", cx - 0.5 * len + 0.75 * len, front + 0.5 * wid, 0.0});
-    origin.push_back(bsite.keyPath());
-  }
-  for (size_t i = 0; i < p.receivers.size(); ++i) {
-    const ReceiverSpec& r = p.receivers[i];
+  if (out.flag("building_receivers", true)) addPoints(house.free_field, "site.building", p);
+  addPoints(house.footprint, "building.footprint", p);
+}
+
+// Every receiver inside the box and outside its absorbing layer (there it would record damped motion).
+void checkReceivers(const ConfigNode& soil, const SoilParams& p) {
+  const AbsorbingZone zone = absorbingZone(p.solver);
+  const double layer = zone.thickness_m;
+  for (const ReceiverSpec& r : p.receivers) {
     const bool inside = r.x_m >= p.mesh.x_min_m && r.x_m <= p.mesh.x_max_m && r.y_m >= p.mesh.y_min_m &&
                         r.y_m <= p.mesh.y_max_m && r.z_m <= 0.0 && -r.z_m <= p.mesh.depth_m;
     if (!inside) {
       std::ostringstream why;
-      why << "receiver '" << r.name << "' (from " << origin[i] << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m
+      why << "receiver '" << r.name << "' (from " << r.origin << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m
           << ") m is outside the soil mesh box x [" << p.mesh.x_min_m << ", " << p.mesh.x_max_m << "], y ["
           << p.mesh.y_min_m << ", " << p.mesh.y_max_m << "], depth [0, " << p.mesh.depth_m << "] m";
-      mesh.fail("x_min_m", why.str());
+      soil.section("mesh").fail("x_min_m", why.str());
     }
-    // Receivers inside the absorbing layer would record damped (wrong) motion.
     const double dist = std::min({r.x_m - p.mesh.x_min_m, p.mesh.x_max_m - r.x_m, r.y_m - p.mesh.y_min_m,
-                                  p.mesh.y_max_m - r.y_m, layer_bottom ? p.mesh.depth_m + r.z_m : 1e300});
+                                  p.mesh.y_max_m - r.y_m, zone.bottom ? p.mesh.depth_m + r.z_m : 1e300});
     if (layer > 0.0 && dist < layer) {
       std::ostringstream why;
-      why << "receiver '" << r.name << "' (from " << origin[i] << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m
+      why << "receiver '" << r.name << "' (from " << r.origin << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m
           << ") m is " << dist << " m from the box face, inside the " << layer
           << " m absorbing zone of the boundary: enlarge soil.mesh or thin the zone";
-      b.section(layer_key).fail("thickness_m", why.str());
+      soil.section("boundary").section(zone.key).fail("thickness_m", why.str());
     }
   }
+}
 
-  // Memory check before anything is allocated.
+// The mesh must fit in soil.mesh.max_memory_gb: checked before anything is allocated.
+void checkMemory(const ConfigNode& mesh, const SoilParams& p) {
   StructuredMesh m;
   try {
     m = buildMesh(p.profile, p.mesh);
@@ -188,6 +173,21 @@ SoilParams loadSoilParams(const ConfigNode& root) {
         << " GB: lower f_max_hz / elements_per_wavelength or shrink the box";
     mesh.fail("max_memory_gb", why.str());
   }
+}
+
+}  // namespace
+
+SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
+  SoilParams p;
+  const ConfigNode soil = root.section("soil");
+  readProfileAndDamping(soil, p);
+  readMesh(soil.section("mesh"), p);
+  readBoundary(soil.section("boundary"), p);
+  readOutputAndLoads(soil, p);
+  p.track = loadTrackLayout(root);
+  collectReceivers(root, house, p);
+  checkReceivers(soil, p);
+  checkMemory(soil.section("mesh"), p);
   return p;
 }
 

@@ -1,7 +1,7 @@
 // railvib_tool config-check: load a scenario and validate every section with
 // the same loaders the nodes use; print the merged configuration on request.
 #include "command_registry.hpp"
-#include "railvib/building/params.hpp"
+#include "railvib/building/model.hpp"
 #include "railvib/common/site.hpp"
 #include "railvib/soil/soil_params.hpp"
 #include "railvib/track/track_model.hpp"
@@ -18,13 +18,13 @@ int configCheck(const std::vector<std::string>& args) {
   if (!parser.parse(args)) return 0;
   const Config config = loadConfig(parser);
   const ConfigNode root = config.root();
-  const auto track = track::loadTrackParams(root.section("track"));
+  const auto track = track::loadTrackParams(root);
   vehicle::loadVehicleParams(root);
   vehicle::loadUnevennessParams(root);
   vehicle::loadPassageParams(root);
-  soil::loadSoilParams(root);
-  building::loadBuildingParams(root);
-  const SiteLayout site = loadSiteLayout(config);
+  const building::BuildingParams house = building::loadBuildingParams(root);
+  soil::loadSoilParams(root, {building::freeFieldPoints(house), {}});
+  const SiteLayout site = loadSiteLayout(root);
   if (parser.isSet("dump")) {
     std::cout << config.dump() << std::endl;
     return 0;
@@ -34,9 +34,7 @@ int configCheck(const std::vector<std::string>& args) {
   summary["valid"] = true;
   summary["sections"] = {"simulation", "vehicle", "unevenness", "track", "soil", "building", "site"};
   summary["ground_sensors"] = site.ground_sensors.size();
-  summary["track_foundation"] = track.foundation == track::FoundationModel::Clm       ? "clm"
-                                : track.foundation == track::FoundationModel::Winkler ? "winkler"
-                                                                                      : "rigid";
+  summary["track_foundation"] = track::foundationName(track.foundation);
   printJson(summary);
   return 0;
 }

@@ -101,7 +101,9 @@ int metrics(const std::vector<std::string>& args) {
   double kb_ftm_max = 0.0;
   for (double v : r.kb_ftm) kb_ftm_max = std::max(kb_ftm_max, v);
   const double kb_ftr = kbFTr(kb_ftm_max, exposure, period);
-  const Din4150_2Verdict v42 = din4150_2Verdict(s.kb_fmax_all, kb_ftr, period);
+  // The same verdicts as the live sensors, with the rating KB_FTr the whole record gives.
+  const SensorVerdict verdict = sensorVerdict(s, period, true, kb_ftr);
+  const Din4150_2Verdict& v42 = verdict.din4150_2;
 
   json out;
   out["input"] = {
@@ -144,7 +146,8 @@ int metrics(const std::vector<std::string>& args) {
                       {"vector_peak_mm_s", s.ppv.vector_peak_mm_s},
                       {"vector_peak_time_s", s.ppv.vector_peak_time_s},
                       {"max_ratio", s.ppv.max_ratio},
-                      {"verdict", s.ppv.exceeded ? "exceeded" : "met"}};
+                      {"governing_component", names[verdict.din4150_3.governing_component]},
+                      {"verdict", verdict.din4150_3.met ? "met" : "exceeded"}};
   out["third_octave"] = {{"v_ref_m_s", spec.v_ref_m_s},
                          {"method", "6th-order Butterworth band filters, equivalent level over the record"},
                          {"components", oct_comp}};

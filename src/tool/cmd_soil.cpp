@@ -18,6 +18,7 @@
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "railvib/soil/verification.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 #include "tool_common.hpp"
 
 namespace railvib::tool {
@@ -31,12 +32,270 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// ---------------------------------------------------------------- soil-bench cases
+// Each case reads its options from the parsed arguments and fills the JSON summary. To add a case:
+// write its function, add a row to kBenchCases (name, what it does) and, if it needs options,
+// declare them in soilBench.
+
+struct BenchArgs {
+  const ArgParser& p;
+  std::vector<Precision> precisions;
+
+  /// Comma-separated list option, at least one value.
+  std::vector<double> list(const std::string& key) const {
+    std::vector<double> v;
+    std::stringstream ss(p.get(key));
+    for (std::string item; std::getline(ss, item, ',');) {
+      if (!item.empty()) v.push_back(std::stod(item));
+    }
+    if (v.empty()) throw ArgError("soil-bench: --" + key + " needs at least one value");
+    return v;
+  }
+  /// The product of --layer x --exponent x --alpha, with --layer-bottom.
+  void addLayerCases(std::vector<ReflectionCase>& cases) const {
+    for (double layer : list("layer")) {
+      for (double n : list("exponent")) {
+        for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+      }
+    }
+  }
+};
+
+const char* precisionName(Precision pr) { return pr == Precision::Float ? "float" : "double"; }
+
+// Reflected / direct figures of one station (reflection and reflection-layered share them).
+json reflectionFigures(const ReflectionRow& row) {
+  return {{"peak", row.peak},
+          {"band_10_50_hz", row.band_10_50},
+          {"band_10_20_hz", row.band_10_20},
+          {"band_21_35_hz", row.band_20_35},
+          {"band_36_50_hz", row.band_35_50}};
+}
+
+json layerFields(const ReflectionCase& layer) {
+  return {{"layer_m", layer.layer_m},
+          {"alpha_1_s", layer.alpha_1_s},
+          {"exponent", layer.exponent},
+          {"layer_bottom", layer.bottom}};
+}
+
+void benchColumn(const BenchArgs& a, json& out) {
+  for (Precision pr : a.precisions) {
+    ColumnSpec spec;
+    spec.precision = pr;
+    const ColumnResult r = runColumn(spec);
+    out[precisionName(pr)] = {{"expected_velocity_m_s", r.expected_velocity_m_s},
+                              {"incident_velocity_m_s", r.incident_velocity_m_s},
+                              {"velocity_error", r.velocity_error},
+                              {"after_velocity_m_s", r.after_velocity_m_s},
+                              {"step_reflection", r.step_reflection},
+                              {"pulse_incident_peak_m_s", r.pulse_incident_peak_m_s},
+                              {"pulse_reflected_peak_m_s", r.pulse_reflected_peak_m_s},
+                              {"pulse_reflection", r.pulse_reflection},
+                              {"dt_s", r.dt_s},
+                              {"elements", r.elements}};
+  }
+}
+
+void benchDamping(const BenchArgs& a, json& out) {
+  // The Haren damping (soil_haren.yaml): beta = 4e-4 s on a velocity low-passed at 300 Hz.
+  constexpr double kBetaS = 4e-4, kCutoffHz = 300.0;
+  json rows = json::array();
+  for (double f : {5.0, 10.0, 25.0, 50.0, 75.0, 100.0}) {
+    const DampingDecayResult r = runDampingDecay(f, kBetaS, kCutoffHz, a.precisions.front());
+    rows.push_back({{"frequency_hz", r.frequency_hz},
+                    {"measured_ratio", r.measured_ratio},
+                    {"target_ratio", r.target_ratio},
+                    {"relative_error", r.measured_ratio / r.target_ratio - 1.0}});
+  }
+  out["beta_s"] = kBetaS;
+  out["damping_cutoff_hz"] = kCutoffHz;
+  out["modes"] = rows;
+}
+
+void benchThroughput(const BenchArgs& a, json& out) {
+  const size_t nx = static_cast<size_t>(a.p.getInt("nx")), ny = static_cast<size_t>(a.p.getInt("ny")),
+               nz = static_cast<size_t>(a.p.getInt("nz"));
+  const int steps = static_cast<int>(a.p.getInt("steps")), repeat = static_cast<int>(a.p.getInt("repeat"));
+  for (Precision pr : a.precisions) {
+    json jp;
+    double one = 0.0;
+    for (int threads : {1, 2}) {
+      std::vector<double> rates, cpu_rates;
+      for (int rep = 0; rep < repeat; ++rep) {
+        const ThroughputResult r = runThroughput(nx, ny, nz, threads, pr, steps);
+        rates.push_back(r.element_updates_per_s);
+        cpu_rates.push_back(r.element_updates_per_cpu_s);
+      }
+      const double med = median(rates);
+      if (threads == 1) one = med;
+      jp["threads_" + std::to_string(threads)] = {{"median_element_updates_per_s", med},
+                                                  {"per_core", med / threads},
+                                                  {"median_per_cpu_second", median(cpu_rates)},
+                                                  {"min", *std::min_element(rates.begin(), rates.end())},
+                                                  {"max", *std::max_element(rates.begin(), rates.end())}};
+      if (threads == 2) jp["speedup_2_cores"] = med / one;
+    }
+    out[precisionName(pr)] = jp;
+  }
+  out["elements"] = nx * ny * nz;
+  out["note"] =
+      "medians over repeats; the machine is shared, wall-clock figures are noisy; per_cpu_second = element "
+      "updates per CPU second actually given to the process (user + sys over all threads)";
+}
+
+void benchReflection(const BenchArgs& a, json& out) {
+  std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
+  a.addLayerCases(cases);
+  const ReflectionResult r = runBoundaryReflection(a.p.getDouble("small-box"), cases);
+  json rows = json::array();
+  for (const ReflectionRow& row : r.rows) {
+    json fields = layerFields(row.layer);
+    fields.update(reflectionFigures(row));
+    fields["elements"] = row.elements;
+    fields["dt_s"] = row.dt_s;
+    rows.push_back(fields);
+  }
+  out["r_m"] = r.r_m;
+  out["window_s"] = r.window_s;
+  out["reference_elements"] = r.reference_elements;
+  out["runs"] = rows;
+  out["note"] =
+      "peak = max |w_small_box - w_reference_box| / max |w_reference| at r (Lamb Hann pulse, 50 ms); band_* = rms "
+      "reflected / direct amplitude over 1 Hz lines of the band; the first run is the small box with Lysmer "
+      "dashpots only, the others enlarge it by layer_m (alpha 0: no layer)";
+}
+
+void benchReflectionLayered(const BenchArgs& a, json& out) {
+  const Config cfg = loadConfig(a.p);
+  const SoilParams sp = loadSoilParams(cfg.root());
+  LayeredReflectionSpec spec;
+  spec.profile = sp.profile;
+  spec.f_max_hz = sp.mesh.f_max_hz;
+  spec.elements_per_wavelength = sp.mesh.elements_per_wavelength;
+  spec.rayleigh_beta_s = sp.solver.rayleigh_beta_s;
+  spec.damping_cutoff_hz = sp.solver.damping_cutoff_hz;
+  spec.precision = sp.solver.precision;
+  const std::vector<double> box = a.list("box");
+  if (box.size() != 2) throw ArgError("soil-bench: --box needs half width,depth");
+  spec.box_half_width_m = box[0];
+  spec.box_depth_m = box[1];
+  spec.reference_half_width_m = 3.0 * box[0];
+  spec.reference_depth_m = 2.5 * box[1];
+  // Until a Rayleigh wave at 200 m/s reflected by the reference side could reach the farthest station.
+  spec.window_s = (2.0 * spec.reference_half_width_m - spec.distances_m.back()) / 200.0;
+  std::vector<ReflectionCase> cases{ReflectionCase{}};
+  const SolverOptions& so = sp.solver;
+  if (so.boundary.method == BoundaryMethod::GradedLayer) {
+    const GradedLayerSpec& g = so.boundary.graded_layer;
+    const ReflectionCase configured{g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom};
+    cases.push_back(configured);
+    cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
+  }
+  if (a.p.isSet("layer") || a.p.isSet("alpha") || a.p.isSet("exponent")) a.addLayerCases(cases);
+  const LayeredReflectionResult r = runLayeredReflection(spec, cases);
+  json rows = json::array();
+  for (const LayeredReflectionRow& row : r.rows) {
+    json st = json::array();
+    for (size_t k = 0; k < row.stations.size(); ++k) {
+      json station = {{"r_m", spec.distances_m[k]}};
+      station.update(reflectionFigures(row.stations[k]));
+      st.push_back(station);
+    }
+    json fields = layerFields(row.layer);
+    fields["elements"] = row.elements;
+    fields["stations"] = st;
+    rows.push_back(fields);
+  }
+  out["h_m"] = r.h_m;
+  out["dt_s"] = r.dt_s;
+  out["window_s"] = spec.window_s;
+  out["box_m"] = box;
+  out["reference_box_m"] = {spec.reference_half_width_m, spec.reference_depth_m};
+  out["reference_elements"] = r.reference_elements;
+  out["pulse_s"] = spec.pulse_s;
+  out["runs"] = rows;
+  out["note"] =
+      "config's soil profile and mesh resolution, quarter model, Hann pulse point load; runs: box of interest with "
+      "dashpots only, then (if configured) with the config's layer outside it and the same enlarged box without "
+      "layer, then the --layer/--alpha/--exponent product if given; figures as in `reflection`";
+}
+
+void writeLambCsv(const std::string& path, const LambResult& r) {
+  std::vector<std::string> cols{"t_s"};
+  for (const auto& s : r.stations) {
+    cols.push_back("w_fe_r" + std::to_string(s.r_m) + "_m");
+    cols.push_back("w_analytic_r" + std::to_string(s.r_m) + "_m");
+  }
+  io::CsvWriter csv(path, cols);
+  for (size_t i = 0; i < r.t_s.size(); ++i) {
+    std::vector<double> row{r.t_s[i]};
+    for (size_t k = 0; k < r.stations.size(); ++k) {
+      row.push_back(r.w_fe[k][i]);
+      row.push_back(r.w_an[k][i]);
+    }
+    csv.row(row);
+  }
+  csv.commit();
+}
+
+void benchLamb(const BenchArgs& a, json& out) {
+  LambSpec spec;
+  spec.precision = a.precisions.front();
+  if (a.p.has("lamb-h") && !a.p.get("lamb-h").empty()) spec.h_m = a.p.getDouble("lamb-h");
+  const LambResult r = runLamb(spec);
+  json st = json::array();
+  for (const auto& s : r.stations) {
+    st.push_back({{"r_m", s.r_m},
+                  {"t_p_fe_s", s.t_p_fe_s},
+                  {"t_p_analytic_s", s.t_p_an_s},
+                  {"t_p_error", s.t_p_fe_s / s.t_p_an_s - 1.0},
+                  {"t_rayleigh_peak_fe_s", s.t_r_fe_s},
+                  {"t_rayleigh_peak_analytic_s", s.t_r_an_s},
+                  {"t_rayleigh_error", s.t_r_fe_s / s.t_r_an_s - 1.0},
+                  {"peak_fe_m", s.peak_fe_m},
+                  {"peak_analytic_m", s.peak_an_m},
+                  {"peak_error", s.peak_fe_m / s.peak_an_m - 1.0},
+                  {"elements_per_rayleigh_wavelength", s.elements_per_rayleigh_wavelength}});
+  }
+  out["stations"] = st;
+  out["elements"] = r.elements;
+  out["dt_s"] = r.dt_s;
+  out["material"] = {{"vs_m_s", spec.material.vs()},
+                     {"vp_m_s", spec.material.vp()},
+                     {"vr_m_s", spec.material.vr()},
+                     {"poisson_ratio", spec.material.poisson_ratio}};
+  out["h_m"] = spec.h_m;
+  out["rise_s"] = spec.rise_s;
+  if (a.p.has("csv") && !a.p.get("csv").empty()) writeLambCsv(a.p.get("csv"), r);
+}
+
+struct BenchCase {
+  const char* name;
+  void (*run)(const BenchArgs&, json&);
+};
+const BenchCase kBenchCases[] = {
+    {"column", benchColumn}, {"damping", benchDamping},       {"throughput", benchThroughput},
+    {"lamb", benchLamb},     {"reflection", benchReflection}, {"reflection-layered", benchReflectionLayered},
+};
+
+std::string benchCaseList() {
+  std::string names;
+  for (const BenchCase& c : kBenchCases) names += (names.empty() ? "" : " | ") + std::string(c.name);
+  return names;
+}
+
+std::vector<Precision> benchPrecisions(const std::string& prec) {
+  std::vector<Precision> precisions;
+  if (prec == "float" || prec == "both") precisions.push_back(Precision::Float);
+  if (prec == "double" || prec == "both") precisions.push_back(Precision::Double);
+  if (precisions.empty()) throw ArgError("soil-bench: --precision must be float, double or both");
+  return precisions;
+}
+
 int soilBench(const std::vector<std::string>& args) {
-  ArgParser p(
-      "soil-bench",
-      "soil verification and benchmarks: column | damping | throughput | lamb | reflection | reflection-layered");
-  p.option("case",
-           "column | damping | throughput | lamb | reflection | reflection-layered (or give it as first argument)", "");
+  ArgParser p("soil-bench", "soil verification and benchmarks: " + benchCaseList());
+  p.option("case", benchCaseList() + " (or give it as first argument)", "");
   p.option("nx", "throughput: elements along x", "160");
   p.option("ny", "throughput: elements along y", "80");
   p.option("nz", "throughput: elements in depth", "30");
@@ -62,226 +321,16 @@ int soilBench(const std::vector<std::string>& args) {
   }
   if (!p.parse(rest)) return 0;
   if (which.empty()) which = p.get("case");
-  const std::string prec = p.get("precision");
-  std::vector<Precision> precisions;
-  if (prec == "float" || prec == "both") precisions.push_back(Precision::Float);
-  if (prec == "double" || prec == "both") precisions.push_back(Precision::Double);
-  if (precisions.empty()) throw ArgError("soil-bench: --precision must be float, double or both");
-  auto list = [&](const std::string& key) {
-    std::vector<double> v;
-    std::string text = p.get(key), item;
-    std::stringstream ss(text);
-    while (std::getline(ss, item, ',')) {
-      if (!item.empty()) v.push_back(std::stod(item));
-    }
-    if (v.empty()) throw ArgError("soil-bench: --" + key + " needs at least one value");
-    return v;
-  };
-  json out;
-  out["case"] = which;
-  if (which == "column") {
-    for (Precision pr : precisions) {
-      ColumnSpec spec;
-      spec.precision = pr;
-      const ColumnResult r = runColumn(spec);
-      out[pr == Precision::Float ? "float" : "double"] = {{"expected_velocity_m_s", r.expected_velocity_m_s},
-                                                          {"incident_velocity_m_s", r.incident_velocity_m_s},
-                                                          {"velocity_error", r.velocity_error},
-                                                          {"after_velocity_m_s", r.after_velocity_m_s},
-                                                          {"step_reflection", r.step_reflection},
-                                                          {"pulse_incident_peak_m_s", r.pulse_incident_peak_m_s},
-                                                          {"pulse_reflected_peak_m_s", r.pulse_reflected_peak_m_s},
-                                                          {"pulse_reflection", r.pulse_reflection},
-                                                          {"dt_s", r.dt_s},
-                                                          {"elements", r.elements}};
-    }
-  } else if (which == "damping") {
-    json rows = json::array();
-    for (double f : {5.0, 10.0, 25.0, 50.0, 75.0, 100.0}) {
-      const DampingDecayResult r = runDampingDecay(f, 4e-4, 300.0, precisions.front());
-      rows.push_back({{"frequency_hz", r.frequency_hz},
-                      {"measured_ratio", r.measured_ratio},
-                      {"target_ratio", r.target_ratio},
-                      {"relative_error", r.measured_ratio / r.target_ratio - 1.0}});
-    }
-    out["beta_s"] = 4e-4;
-    out["damping_cutoff_hz"] = 300.0;
-    out["modes"] = rows;
-  } else if (which == "throughput") {
-    const size_t nx = static_cast<size_t>(p.getInt("nx")), ny = static_cast<size_t>(p.getInt("ny")),
-                 nz = static_cast<size_t>(p.getInt("nz"));
-    const int steps = static_cast<int>(p.getInt("steps")), repeat = static_cast<int>(p.getInt("repeat"));
-    for (Precision pr : precisions) {
-      json jp;
-      double one = 0.0;
-      for (int threads : {1, 2}) {
-        std::vector<double> rates, cpu_rates;
-        for (int rep = 0; rep < repeat; ++rep) {
-          const ThroughputResult r = runThroughput(nx, ny, nz, threads, pr, steps);
-          rates.push_back(r.element_updates_per_s);
-          cpu_rates.push_back(r.element_updates_per_cpu_s);
-        }
-        const double med = median(rates);
-        if (threads == 1) one = med;
-        jp["threads_" + std::to_string(threads)] = {{"median_element_updates_per_s", med},
-                                                    {"per_core", med / threads},
-                                                    {"median_per_cpu_second", median(cpu_rates)},
-                                                    {"min", *std::min_element(rates.begin(), rates.end())},
-                                                    {"max", *std::max_element(rates.begin(), rates.end())}};
-        if (threads == 2) jp["speedup_2_cores"] = med / one;
-      }
-      out[pr == Precision::Float ? "float" : "double"] = jp;
-    }
-    out["elements"] = nx * ny * nz;
-    out["note"] =
-        "medians over repeats; the machine is shared, wall-clock figures are noisy; per_cpu_second = element "
-        "updates per CPU second actually given to the process (user + sys over all threads)";
-  } else if (which == "reflection") {
-    std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
-    for (double layer : list("layer")) {
-      for (double n : list("exponent")) {
-        for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
-      }
-    }
-    const ReflectionResult r = runBoundaryReflection(p.getDouble("small-box"), cases);
-    json rows = json::array();
-    for (const ReflectionRow& row : r.rows) {
-      rows.push_back({{"layer_m", row.layer.layer_m},
-                      {"alpha_1_s", row.layer.alpha_1_s},
-                      {"exponent", row.layer.exponent},
-                      {"layer_bottom", row.layer.bottom},
-                      {"peak", row.peak},
-                      {"band_10_50_hz", row.band_10_50},
-                      {"band_10_20_hz", row.band_10_20},
-                      {"band_21_35_hz", row.band_20_35},
-                      {"band_36_50_hz", row.band_35_50},
-                      {"elements", row.elements},
-                      {"dt_s", row.dt_s}});
-    }
-    out["r_m"] = r.r_m;
-    out["window_s"] = r.window_s;
-    out["reference_elements"] = r.reference_elements;
-    out["runs"] = rows;
-    out["note"] =
-        "peak = max |w_small_box - w_reference_box| / max |w_reference| at r (Lamb Hann pulse, 50 ms); band_* = rms "
-        "reflected / direct amplitude over 1 Hz lines of the band; the first run is the small box with Lysmer "
-        "dashpots only, the others enlarge it by layer_m (alpha 0: no layer)";
-  } else if (which == "reflection-layered") {
-    const Config cfg = loadConfig(p);
-    const SoilParams sp = loadSoilParams(cfg.root());
-    LayeredReflectionSpec spec;
-    spec.profile = sp.profile;
-    spec.f_max_hz = sp.mesh.f_max_hz;
-    spec.elements_per_wavelength = sp.mesh.elements_per_wavelength;
-    spec.rayleigh_beta_s = sp.solver.rayleigh_beta_s;
-    spec.damping_cutoff_hz = sp.solver.damping_cutoff_hz;
-    spec.precision = sp.solver.precision;
-    const std::vector<double> box = list("box");
-    if (box.size() != 2) throw ArgError("soil-bench: --box needs half width,depth");
-    spec.box_half_width_m = box[0];
-    spec.box_depth_m = box[1];
-    spec.reference_half_width_m = 3.0 * box[0];
-    spec.reference_depth_m = 2.5 * box[1];
-    // Until a Rayleigh wave at 200 m/s reflected by the reference side could reach the farthest station.
-    spec.window_s = (2.0 * spec.reference_half_width_m - spec.distances_m.back()) / 200.0;
-    std::vector<ReflectionCase> cases{ReflectionCase{}};
-    const SolverOptions& so = sp.solver;
-    if (so.boundary.method == BoundaryMethod::GradedLayer) {
-      const GradedLayerSpec& g = so.boundary.graded_layer;
-      const ReflectionCase configured{g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom};
-      cases.push_back(configured);
-      cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
-    }
-    if (p.isSet("layer") || p.isSet("alpha") || p.isSet("exponent")) {
-      for (double layer : list("layer")) {
-        for (double n : list("exponent")) {
-          for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
-        }
-      }
-    }
-    const LayeredReflectionResult r = runLayeredReflection(spec, cases);
-    json rows = json::array();
-    for (const LayeredReflectionRow& row : r.rows) {
-      json st = json::array();
-      for (size_t k = 0; k < row.stations.size(); ++k) {
-        const ReflectionRow& x = row.stations[k];
-        st.push_back({{"r_m", spec.distances_m[k]},
-                      {"peak", x.peak},
-                      {"band_10_50_hz", x.band_10_50},
-                      {"band_10_20_hz", x.band_10_20},
-                      {"band_21_35_hz", x.band_20_35},
-                      {"band_36_50_hz", x.band_35_50}});
-      }
-      rows.push_back({{"layer_m", row.layer.layer_m},
-                      {"alpha_1_s", row.layer.alpha_1_s},
-                      {"exponent", row.layer.exponent},
-                      {"layer_bottom", row.layer.bottom},
-                      {"elements", row.elements},
-                      {"stations", st}});
-    }
-    out["h_m"] = r.h_m;
-    out["dt_s"] = r.dt_s;
-    out["window_s"] = spec.window_s;
-    out["box_m"] = box;
-    out["reference_box_m"] = {spec.reference_half_width_m, spec.reference_depth_m};
-    out["reference_elements"] = r.reference_elements;
-    out["pulse_s"] = spec.pulse_s;
-    out["runs"] = rows;
-    out["note"] =
-        "config's soil profile and mesh resolution, quarter model, Hann pulse point load; runs: box of interest with "
-        "dashpots only, then (if configured) with the config's layer outside it and the same enlarged box without "
-        "layer, then the --layer/--alpha/--exponent product if given; figures as in `reflection`";
-  } else if (which == "lamb") {
-    LambSpec spec;
-    spec.precision = precisions.front();
-    if (p.has("lamb-h") && !p.get("lamb-h").empty()) spec.h_m = p.getDouble("lamb-h");
-    const LambResult r = runLamb(spec);
-    json st = json::array();
-    for (const auto& s : r.stations) {
-      st.push_back({{"r_m", s.r_m},
-                    {"t_p_fe_s", s.t_p_fe_s},
-                    {"t_p_analytic_s", s.t_p_an_s},
-                    {"t_p_error", s.t_p_fe_s / s.t_p_an_s - 1.0},
-                    {"t_rayleigh_peak_fe_s", s.t_r_fe_s},
-                    {"t_rayleigh_peak_analytic_s", s.t_r_an_s},
-                    {"t_rayleigh_error", s.t_r_fe_s / s.t_r_an_s - 1.0},
-                    {"peak_fe_m", s.peak_fe_m},
-                    {"peak_analytic_m", s.peak_an_m},
-                    {"peak_error", s.peak_fe_m / s.peak_an_m - 1.0},
-                    {"elements_per_rayleigh_wavelength", s.elements_per_rayleigh_wavelength}});
-    }
-    out["stations"] = st;
-    out["elements"] = r.elements;
-    out["dt_s"] = r.dt_s;
-    out["material"] = {{"vs_m_s", spec.material.vs()},
-                       {"vp_m_s", spec.material.vp()},
-                       {"vr_m_s", spec.material.vr()},
-                       {"poisson_ratio", spec.material.poisson_ratio}};
-    out["h_m"] = spec.h_m;
-    out["rise_s"] = spec.rise_s;
-    if (p.has("csv") && !p.get("csv").empty()) {
-      std::vector<std::string> cols{"t_s"};
-      for (const auto& s : r.stations) {
-        cols.push_back("w_fe_r" + std::to_string(s.r_m) + "_m");
-        cols.push_back("w_analytic_r" + std::to_string(s.r_m) + "_m");
-      }
-      io::CsvWriter csv(p.get("csv"), cols);
-      for (size_t i = 0; i < r.t_s.size(); ++i) {
-        std::vector<double> row{r.t_s[i]};
-        for (size_t k = 0; k < r.stations.size(); ++k) {
-          row.push_back(r.w_fe[k][i]);
-          row.push_back(r.w_an[k][i]);
-        }
-        csv.row(row);
-      }
-      csv.commit();
-    }
-  } else {
-    throw ArgError("soil-bench: unknown case '" + which +
-                   "' (column | damping | throughput | lamb | reflection | reflection-layered)");
+  const BenchArgs bench{p, benchPrecisions(p.get("precision"))};
+  for (const BenchCase& c : kBenchCases) {
+    if (which != c.name) continue;
+    json out;
+    out["case"] = which;
+    c.run(bench, out);
+    printJson(out);
+    return 0;
   }
-  printJson(out);
-  return 0;
+  throw ArgError("soil-bench: unknown case '" + which + "' (" + benchCaseList() + ")");
 }
 
 double peakRssGb() {
@@ -307,8 +356,13 @@ int soilRun(const std::vector<std::string>& args) {
   if (!p.has("loads") || p.get("loads").empty()) throw ArgError("soil: --loads is required");
   if (!p.has("out") || p.get("out").empty()) throw ArgError("soil: --out is required");
   const Config cfg = loadConfig(p);
-  SoilParams params = loadSoilParams(cfg.root());
-  const double duration = p.getDouble("duration") <= 0.0 ? params.duration_s : p.getDouble("duration");
+  const ConfigNode root = cfg.root();
+  // The house's free-field receivers, as the soil node has them (its footprint is the building's input).
+  HouseReceivers house;
+  if (root.has("building")) house.free_field = building::freeFieldPoints(building::loadBuildingParams(root));
+  const SoilParams params = loadSoilParams(root, house);
+  const double duration =
+      p.getDouble("duration") <= 0.0 ? vehicle::loadPassageParams(root).duration_s : p.getDouble("duration");
 
   const io::CsvTable loads = io::readCsv(p.get("loads"));
   if (loads.columns.empty() || loads.columns[0] != "t_s" || loads.rows.size() < 2) {
@@ -316,7 +370,6 @@ int soilRun(const std::vector<std::string>& args) {
   }
   const double rate = 1.0 / (loads.rows[1][0] - loads.rows[0][0]);
   if (std::abs(loads.rows[0][0]) > 1e-9) throw std::runtime_error(p.get("loads") + ": first sample must be at t = 0");
-  params.load_sample_rate_hz = rate;
   const size_t ns = loads.columns.size() - 1;
   std::vector<double> sleeper_x;
   std::string sleeper_file = p.get("sleepers") == "auto" ? "" : p.get("sleepers");
@@ -328,7 +381,7 @@ int soilRun(const std::vector<std::string>& args) {
     const io::CsvTable sl = io::readCsv(sleeper_file);
     for (const auto& r : sl.rows) sleeper_x.push_back(r[sl.column("x_m")]);
   } else {
-    sleeper_x = params.sleeperPositions();
+    sleeper_x = params.track.sleeperPositions();
   }
   if (sleeper_x.size() != ns) {
     throw std::runtime_error(p.get("loads") + ": " + std::to_string(ns) + " sleeper columns but " +
@@ -346,7 +399,7 @@ int soilRun(const std::vector<std::string>& args) {
       bodies.push_back(coupling::houseFoundation(cfg.root(), house, params).body);
     }
   }
-  SoilModel model(params, sleeper_x, bodies);
+  SoilModel model(params, sleeper_x, rate, bodies);
   nlohmann::json summary = model.summary();
   std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
             << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
@@ -449,10 +502,7 @@ int soilRun(const std::vector<std::string>& args) {
 }
 
 Registrar reg_soil("soil", "offline 3D soil run (loads CSV -> receiver velocities CSV + surface snapshots)", soilRun);
-Registrar reg_bench("soil-bench",
-                    "soil verification and benchmarks: column | damping | throughput | lamb | reflection | "
-                    "reflection-layered",
-                    soilBench);
+Registrar reg_bench("soil-bench", "soil verification and benchmarks: " + benchCaseList(), soilBench);
 
 }  // namespace
 }  // namespace railvib::tool

@@ -15,6 +15,7 @@
 #include "railvib/track/track_analysis.hpp"
 #include "railvib/track/track_newmark.hpp"
 #include "railvib/track/track_stepper.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 #include "tool_common.hpp"
 
 namespace railvib::tool {
@@ -91,7 +92,7 @@ int runReceptance(const std::vector<std::string>& argv) {
       vary.empty() ? std::vector<double>{1.0} : parseList(args.get("factors"), "factors");
 
   const Config cfg = loadWithFoundation(args);
-  const TrackParams base = track::loadTrackParams(cfg.section("track"));
+  const TrackParams base = track::loadTrackParams(cfg.root());
   std::vector<double> f;
   for (long i = 0;; ++i) {
     const double v = fmin + static_cast<double>(i) * df;
@@ -106,7 +107,7 @@ int runReceptance(const std::vector<std::string>& argv) {
     if (std::abs(xs[i]) < std::abs(xs[i0])) i0 = i;
   }
   i0 = std::min(i0, xs.size() - 2);
-  const double x = at == "sleeper" ? xs[i0] : xs[i0] + 0.5 * base.sleeper_spacing_m;
+  const double x = at == "sleeper" ? xs[i0] : xs[i0] + 0.5 * base.layout.spacing_m;
   const double fpp = track::pinnedPinnedFrequency(base);
 
   std::vector<std::string> columns{"f_hz"};
@@ -200,14 +201,12 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   if (!args.has("csv")) throw ArgError("moving-load: --csv OUT is required");
   const Config cfg = loadWithFoundation(args);
   const ConfigNode root = cfg.root();
-  const TrackParams params = track::loadTrackParams(cfg.section("track"));
-  const ConfigNode sim = cfg.section("simulation");
-  const double speed = args.has("speed") ? args.getDouble("speed") : sim.number("speed_m_s", Range::nonNegative());
-  const double duration =
-      args.has("duration") ? positiveOption(args, "duration") : sim.number("duration_s", Range::positive());
-  const double start =
-      args.has("start") ? args.getDouble("start") : sim.number("front_axle_start_m", Range::open(-1e5, 1e5));
-  const double dt = args.has("dt") ? positiveOption(args, "dt") : sim.number("time_step_s", Range::open(0.0, 1.0));
+  const TrackParams params = track::loadTrackParams(cfg.root());
+  const vehicle::PassageParams sim = vehicle::loadPassageParams(root);
+  const double speed = args.has("speed") ? args.getDouble("speed") : sim.speed_m_s;
+  const double duration = args.has("duration") ? positiveOption(args, "duration") : sim.duration_s;
+  const double start = args.has("start") ? args.getDouble("start") : sim.front_axle_start_m;
+  const double dt = args.has("dt") ? positiveOption(args, "dt") : sim.time_step_s;
   const double rate = args.has("rate") ? positiveOption(args, "rate") : params.load_sample_rate_hz;
   if (!std::isfinite(speed) || speed < 0.0) throw ArgError("--speed must be >= 0");
   if (rate > 1.0 / dt * (1.0 + 1e-9)) throw ArgError("--rate must not exceed the step rate 1/dt");
@@ -222,7 +221,7 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   if (single) {
     run.offsets_behind_m = {0.0};
   } else {
-    run.offsets_behind_m = root.section("vehicle").numbers("axle_offsets_m", Range::nonNegative(), 1, 64);
+    run.offsets_behind_m = vehicle::loadVehicleParams(root).axle_offsets_m;
   }
   if (args.has("load")) {
     const double load = args.getDouble("load");
@@ -330,7 +329,7 @@ int runTrackBench(const std::vector<std::string>& argv) {
   overrides.push_back("track.extent.x_min_m=" + fmt(-0.5 * length));
   overrides.push_back("track.extent.x_max_m=" + fmt(0.5 * length));
   const Config cfg = loadConfig(args, overrides);
-  const TrackParams params = track::loadTrackParams(cfg.section("track"));
+  const TrackParams params = track::loadTrackParams(cfg.root());
   const double dt = positiveOption(args, "dt");
   const long steps = args.getInt("steps"), repeats = args.getInt("repeats");
   if (steps < 1 || repeats < 1) throw ArgError("--steps and --repeats must be >= 1");

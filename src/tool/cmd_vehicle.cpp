@@ -63,7 +63,7 @@ int vehicleModes(const std::vector<std::string>& args) {
   if (track == "rigid") {
     modes = vehicleModesRigid(model);
   } else {
-    const auto tp = track::loadTrackParams(cfg.section("track"));
+    const auto tp = track::loadTrackParams(cfg.root());
     ModalOptions mo;
     mo.min_vehicle_energy_share = p.getDouble("min-vehicle-share");
     mo.margin_m = p.getDouble("margin");
@@ -103,9 +103,8 @@ int wheelImpedance(const std::vector<std::string>& args) {
   std::vector<double> f(static_cast<size_t>(n));
   for (long k = 0; k < n; ++k) f[static_cast<size_t>(k)] = f0 * std::pow(f1 / f0, static_cast<double>(k) / (n - 1));
   const auto t0 = std::chrono::steady_clock::now();
-  const auto Z = track == "rigid"
-                     ? wheelImpedanceRigid(model, wheel, f)
-                     : wheelImpedanceFlexible(model, track::loadTrackParams(cfg.section("track")), wheel, f);
+  const auto Z = track == "rigid" ? wheelImpedanceRigid(model, wheel, f)
+                                  : wheelImpedanceFlexible(model, track::loadTrackParams(cfg.root()), wheel, f);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   size_t imin = 0;
   for (size_t k = 0; k < Z.size(); ++k) {
@@ -129,6 +128,149 @@ int wheelImpedance(const std::vector<std::string>& args) {
   return 0;
 }
 
+// ---------------------------------------------------------------- passage
+// The coupled run offline: its setup, the CSV outputs it streams, and its JSON summary.
+
+struct PassageSetup {
+  Config config;
+  VehicleModel model;
+  PassageParams passage;
+  UnevennessParams unevenness_params;
+  track::TrackParams track;
+  Unevenness unevenness;
+
+  explicit PassageSetup(Config cfg)
+      : config(std::move(cfg)),
+        model(loadVehicleParams(config.root())),
+        passage(loadPassageParams(config.root())),
+        unevenness_params(loadUnevennessParams(config.root())),
+        track(track::loadTrackParams(config.root())),
+        unevenness(unevenness_params, track.layout.x_min_m, track.layout.x_max_m) {}
+  bool flexible() const { return passage.vehicle_track == VehicleTrack::Flexible; }
+};
+
+/// CSV outputs of a passage: contact forces and unevenness every N-th step; on a flexible track the
+/// soil loads (both rails, anti-alias decimated to track.output.load_sample_rate_hz) and the sleepers.
+class PassageCsv {
+ public:
+  PassageCsv(const std::string& dir, const PassageSetup& setup, const std::vector<double>& sleepers, long every)
+      : nw_(setup.model.wheelCount()),
+        ns_(sleepers.size()),
+        every_(static_cast<uint64_t>(every)),
+        forces_(dir + "/contact_forces.csv", wheelColumns("_force_n")),
+        unevenness_(dir + "/unevenness.csv", wheelColumns("_unevenness_m")) {
+    if (!setup.flexible()) return;
+    std::vector<std::string> cols{"t_s"};
+    // same header as `railvib_tool moving-load`: x_<sleeper position, 6 significant digits>
+    for (size_t s = 0; s < ns_; ++s) {
+      std::ostringstream name;
+      name << "x_" << std::setprecision(6) << sleepers[s];
+      cols.push_back(name.str());
+    }
+    soil_ = std::make_unique<io::CsvWriter>(dir + "/soil_loads.csv", cols);
+    signal::DecimatorSpec spec;
+    spec.input_rate_hz = 1.0 / setup.passage.time_step_s;
+    const double ratio = std::round(spec.input_rate_hz / setup.track.load_sample_rate_hz);
+    spec.output_rate_hz = spec.input_rate_hz / std::max(1.0, ratio);
+    decimator_ = std::make_unique<signal::Decimator>(spec, ns_);
+    io::CsvWriter sl(dir + "/sleepers.csv", {"sleeper", "x_m"});
+    for (size_t s = 0; s < ns_; ++s) sl.row({static_cast<double>(s), sleepers[s]});
+    sl.commit();
+  }
+
+  void write(const PassageBlock& block) {
+    for (size_t k = 0; k < block.sampleCount(); ++k) {
+      if ((block.first_index + k) % every_ != 0) continue;
+      writeRow(forces_, block.time_s[k], block.contact_force_n, k);
+      writeRow(unevenness_, block.time_s[k], block.unevenness_m, k);
+    }
+    if (!decimator_) return;
+    soil_in_.resize(block.ballast_force_n.size());
+    for (size_t k = 0; k < soil_in_.size(); ++k) soil_in_[k] = 2.0 * block.ballast_force_n[k];
+    soil_out_.clear();
+    decimator_->push(soil_in_.data(), block.sampleCount(), soil_out_);
+    writeSoil();
+  }
+
+  void commit() {
+    if (decimator_) {
+      soil_out_.clear();
+      decimator_->flush(soil_out_);
+      writeSoil();
+      soil_->commit();
+    }
+    forces_.commit();
+    unevenness_.commit();
+  }
+
+ private:
+  std::vector<std::string> wheelColumns(const std::string& suffix) const {
+    std::vector<std::string> cols{"t_s"};
+    for (int i = 0; i < nw_; ++i) cols.push_back("axle" + std::to_string(i) + suffix);
+    return cols;
+  }
+  void writeRow(io::CsvWriter& csv, double t_s, const std::vector<double>& per_wheel, size_t k) {
+    row_.assign(1, t_s);
+    for (int i = 0; i < nw_; ++i) row_.push_back(per_wheel[k * nw_ + i]);
+    csv.row(row_);
+  }
+  void writeSoil() {
+    for (size_t k = 0; k + ns_ <= soil_out_.size(); k += ns_) {
+      row_.assign(1, decimator_->outputTime(soil_rows_++));
+      row_.insert(row_.end(), soil_out_.begin() + static_cast<long>(k), soil_out_.begin() + static_cast<long>(k + ns_));
+      soil_->row(row_);
+    }
+  }
+
+  int nw_;
+  size_t ns_;
+  uint64_t every_;
+  io::CsvWriter forces_, unevenness_;
+  std::unique_ptr<io::CsvWriter> soil_;
+  std::unique_ptr<signal::Decimator> decimator_;
+  std::vector<double> soil_in_, soil_out_, row_;
+  uint64_t soil_rows_ = 0;
+};
+
+/// Peak and minimum contact force of each wheel over the run.
+struct ContactForcePeaks {
+  explicit ContactForcePeaks(int wheels) : peak(wheels, 0.0), time_of_peak(wheels, 0.0), min(wheels, 1e300) {}
+  void add(const PassageBlock& block) {
+    const size_t nw = peak.size();
+    for (size_t k = 0; k < block.sampleCount(); ++k) {
+      for (size_t i = 0; i < nw; ++i) {
+        const double F = block.contact_force_n[k * nw + i];
+        if (F > peak[i]) {
+          peak[i] = F;
+          time_of_peak[i] = block.time_s[k];
+        }
+        min[i] = std::min(min[i], F);
+      }
+    }
+  }
+  std::vector<double> peak, time_of_peak, min;
+};
+
+json passageWheels(const PassageSetup& setup, const VehiclePassage& run, const ContactForcePeaks& f) {
+  const auto& s0 = run.initialState();
+  const auto& defect = setup.unevenness_params.defect;
+  json wheels = json::array();
+  for (int i = 0; i < setup.model.wheelCount(); ++i) {
+    const double x0 = setup.passage.front_axle_start_m - setup.model.wheels()[i].offset_m;
+    const double t_defect =
+        defect.enabled ? (defect.position_m + 0.5 * defect.length_m - x0) / setup.passage.speed_m_s : -1.0;
+    wheels.push_back({{"axle", i},
+                      {"type", setup.model.wheels()[i].type == AxleType::Motor ? "motor" : "trailer"},
+                      {"static_force_n", s0.contact_force_n[i]},
+                      {"peak_force_n", f.peak[i]},
+                      {"peak_dynamic_force_n", f.peak[i] - s0.contact_force_n[i]},
+                      {"min_force_n", f.min[i]},
+                      {"time_of_peak_s", f.time_of_peak[i]},
+                      {"time_over_defect_s", t_defect}});
+  }
+  return wheels;
+}
+
 int passage(const std::vector<std::string>& args) {
   ArgParser p("passage", "coupled T2000 / track passage over the defect (contact forces, soil loads, summary)");
   addConfigOptions(p);
@@ -137,111 +279,37 @@ int passage(const std::vector<std::string>& args) {
   p.option("duration", "simulated time (s; default simulation.duration_s)", "");
   p.option("dt", "time step (s; default simulation.time_step_s)", "");
   p.option("foundation", "clm | winkler (default: config)", "");
-  p.option("track", "rigid | flexible", "flexible");
+  p.option("track", "rigid | flexible (default: simulation.vehicle_track)", "");
   p.option("csv-every", "write every N-th step to contact_forces.csv / unevenness.csv", "10");
   if (!p.parse(args)) return 0;
-  const std::string track = trackChoice(p);
   if (!p.has("out") || p.get("out").empty()) throw ArgError("passage: --out DIR is required");
   std::vector<std::string> extra;
   if (p.has("speed")) extra.push_back("simulation.speed_m_s=" + p.get("speed"));
   if (p.has("duration")) extra.push_back("simulation.duration_s=" + p.get("duration"));
   if (p.has("dt")) extra.push_back("simulation.time_step_s=" + p.get("dt"));
   if (p.has("foundation")) extra.push_back("track.foundation.model=" + p.get("foundation"));
-  const Config cfg = loadConfig(p, extra);
+  if (p.has("track")) extra.push_back("simulation.vehicle_track=" + trackChoice(p));
   const long every = p.getInt("csv-every");
   if (every < 1) throw ArgError("--csv-every must be >= 1");
+  const PassageSetup setup(loadConfig(p, extra));
 
-  const VehicleModel model(loadVehicleParams(cfg.root()));
-  const PassageParams pp = loadPassageParams(cfg.root());
-  const UnevennessParams up = loadUnevennessParams(cfg.root());
-  const auto tp = track::loadTrackParams(cfg.section("track"));
-  const Unevenness unevenness(up, tp.x_min_m, tp.x_max_m);
-  std::unique_ptr<RailSupport> rail;
-  if (track == "rigid") {
-    rail = std::make_unique<RigidRail>();
-  } else {
-    rail = std::make_unique<FlexibleRail>(tp, pp.time_step_s);
-  }
   const auto t_start = std::chrono::steady_clock::now();
   PassageOptions opt;
-  opt.record_ballast = track == "flexible";
-  VehiclePassage run(model, unevenness, pp, std::move(rail), opt);
+  opt.record_ballast = setup.flexible();
+  VehiclePassage run(setup.model, setup.unevenness, setup.passage, makeRailSupport(setup.passage, setup.track), opt);
   const double t_setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
   const std::string dir = p.get("out");
   std::filesystem::create_directories(dir);
-  const int nw = model.wheelCount();
-  std::vector<std::string> fcols{"t_s"}, zcols{"t_s"};
-  for (int i = 0; i < nw; ++i) {
-    fcols.push_back("axle" + std::to_string(i) + "_force_n");
-    zcols.push_back("axle" + std::to_string(i) + "_unevenness_m");
-  }
-  io::CsvWriter fcsv(dir + "/contact_forces.csv", fcols);
-  io::CsvWriter zcsv(dir + "/unevenness.csv", zcols);
-  std::unique_ptr<io::CsvWriter> scsv;
-  std::unique_ptr<signal::Decimator> decim;
-  const std::vector<double> sleepers = run.rail().sleeperPositions();
-  const size_t ns = sleepers.size();
-  if (track == "flexible") {
-    std::vector<std::string> cols{"t_s"};
-    // same header as `railvib_tool moving-load`: x_<sleeper position, 6 significant digits>
-    for (size_t s = 0; s < ns; ++s) {
-      std::ostringstream name;
-      name << "x_" << std::setprecision(6) << sleepers[s];
-      cols.push_back(name.str());
-    }
-    scsv = std::make_unique<io::CsvWriter>(dir + "/soil_loads.csv", cols);
-    signal::DecimatorSpec spec;
-    spec.input_rate_hz = 1.0 / pp.time_step_s;
-    const double ratio = std::round(spec.input_rate_hz / tp.load_sample_rate_hz);
-    spec.output_rate_hz = spec.input_rate_hz / std::max(1.0, ratio);
-    decim = std::make_unique<signal::Decimator>(spec, ns);
-    io::CsvWriter sl(dir + "/sleepers.csv", {"sleeper", "x_m"});
-    for (size_t s = 0; s < ns; ++s) sl.row({static_cast<double>(s), sleepers[s]});
-    sl.commit();
-  }
-  std::vector<double> peak(static_cast<size_t>(nw), 0.0), tpeak(static_cast<size_t>(nw), 0.0);
-  std::vector<double> minf(static_cast<size_t>(nw), 1e300);
-  std::vector<double> soil_in, soil_out, row;
-  uint64_t soil_rows = 0;
-  auto writeSoil = [&](const std::vector<double>& frames) {
-    for (size_t k = 0; k + ns <= frames.size(); k += ns) {
-      row.assign(1, decim->outputTime(soil_rows++));
-      row.insert(row.end(), frames.begin() + static_cast<long>(k), frames.begin() + static_cast<long>(k + ns));
-      scsv->row(row);
-    }
-  };
+  PassageCsv csv(dir, setup, run.rail().sleeperPositions(), every);
+  ContactForcePeaks forces(setup.model.wheelCount());
   PassageBlock block;
   const uint64_t total = run.totalSamples();
   auto last_print = std::chrono::steady_clock::now();
   while (!run.finished()) {
-    const size_t n = run.advance(4096, block);
-    for (size_t k = 0; k < n; ++k) {
-      const uint64_t idx = block.first_index + k;
-      for (int i = 0; i < nw; ++i) {
-        const double F = block.contact_force_n[k * nw + i];
-        if (F > peak[i]) {
-          peak[i] = F;
-          tpeak[i] = block.time_s[k];
-        }
-        minf[i] = std::min(minf[i], F);
-      }
-      if (idx % static_cast<uint64_t>(every) == 0) {
-        row.assign(1, block.time_s[k]);
-        for (int i = 0; i < nw; ++i) row.push_back(block.contact_force_n[k * nw + i]);
-        fcsv.row(row);
-        row.assign(1, block.time_s[k]);
-        for (int i = 0; i < nw; ++i) row.push_back(block.unevenness_m[k * nw + i]);
-        zcsv.row(row);
-      }
-    }
-    if (decim) {
-      soil_in.resize(block.ballast_force_n.size());
-      for (size_t k = 0; k < soil_in.size(); ++k) soil_in[k] = 2.0 * block.ballast_force_n[k];
-      soil_out.clear();
-      decim->push(soil_in.data(), n, soil_out);
-      writeSoil(soil_out);
-    }
+    run.advance(4096, block);
+    forces.add(block);
+    csv.write(block);
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last_print).count() > 5.0) {
       last_print = now;
@@ -251,38 +319,16 @@ int passage(const std::vector<std::string>& args) {
                 << el * (1.0 - frac) / std::max(frac, 1e-9) << " s\n";
     }
   }
-  if (decim) {
-    soil_out.clear();
-    decim->flush(soil_out);
-    writeSoil(soil_out);
-    scsv->commit();
-  }
-  fcsv.commit();
-  zcsv.commit();
+  csv.commit();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  const auto& s0 = run.initialState();
-  json wheels = json::array();
-  for (int i = 0; i < nw; ++i) {
-    const double x0 = pp.front_axle_start_m - model.wheels()[i].offset_m;
-    const double t_defect =
-        up.defect.enabled ? (up.defect.position_m + 0.5 * up.defect.length_m - x0) / pp.speed_m_s : -1.0;
-    wheels.push_back({{"axle", i},
-                      {"type", model.wheels()[i].type == AxleType::Motor ? "motor" : "trailer"},
-                      {"static_force_n", s0.contact_force_n[i]},
-                      {"peak_force_n", peak[i]},
-                      {"peak_dynamic_force_n", peak[i] - s0.contact_force_n[i]},
-                      {"min_force_n", minf[i]},
-                      {"time_of_peak_s", tpeak[i]},
-                      {"time_over_defect_s", t_defect}});
-  }
-  printJson({{"track", track},
-             {"foundation", track == "flexible" ? track::foundationName(tp.foundation) : "none"},
-             {"speed_m_s", pp.speed_m_s},
-             {"duration_s", pp.duration_s},
-             {"time_step_s", pp.time_step_s},
+  printJson({{"track", setup.flexible() ? "flexible" : "rigid"},
+             {"foundation", setup.flexible() ? track::foundationName(setup.track.foundation) : "none"},
+             {"speed_m_s", setup.passage.speed_m_s},
+             {"duration_s", setup.passage.duration_s},
+             {"time_step_s", setup.passage.time_step_s},
              {"steps", total - 1},
-             {"weight_per_rail_n", model.weightPerRail()},
-             {"wheels", wheels},
+             {"weight_per_rail_n", setup.model.weightPerRail()},
+             {"wheels", passageWheels(setup, run, forces)},
              {"max_newton_iterations", run.maxNewtonIterations()},
              {"setup_time_s", t_setup},
              {"wall_time_s", wall},

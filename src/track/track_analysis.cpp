@@ -36,14 +36,14 @@ std::vector<ReceptancePeak> findPeaks(const std::vector<double>& f, const std::v
 }
 
 double pinnedPinnedFrequency(const TrackParams& p) {
-  const double L = p.sleeper_spacing_m;
+  const double L = p.layout.spacing_m;
   return (M_PI / L) * (M_PI / L) * std::sqrt(p.rail_bending_stiffness_n_m2 / p.rail_mass_per_length_kg_m) /
          (2.0 * M_PI);
 }
 
 std::complex<double> continuousBeamReceptance(const TrackParams& p, double frequency_hz) {
   using C = std::complex<double>;
-  const double w = 2.0 * M_PI * frequency_hz, L = p.sleeper_spacing_m;
+  const double w = 2.0 * M_PI * frequency_hz, L = p.layout.spacing_m;
   const C sp = C(p.railpad_stiffness_n_m, w * p.railpad_damping_n_s_m) / L;
   const C sb = C(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m) / L;
   const double ms = p.sleeper_mass_kg / L;
@@ -70,7 +70,7 @@ double winklerBeamStaticDeflection(double EI, double k, double force_n) {
 double smearedStaticSupportStiffness(const TrackParams& p) {
   double flex = 1.0 / p.railpad_stiffness_n_m + 1.0 / p.ballast_stiffness_n_m;
   if (p.foundation == FoundationModel::Winkler) flex += 1.0 / p.winkler.stiffness_n_m;
-  return 1.0 / flex / p.sleeper_spacing_m;
+  return 1.0 / flex / p.layout.spacing_m;
 }
 
 void simulateMovingLoads(const TrackModel& model, const MovingLoadRun& run,

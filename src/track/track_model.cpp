@@ -27,14 +27,11 @@ TrackModel::TrackModel(const TrackParams& params) : params_(params) { build(); }
 
 void TrackModel::build() {
   const TrackParams& p = params_;
-  const double L = p.sleeper_spacing_m;
+  const double L = p.layout.spacing_m;
   const int ne = p.elements_per_bay;
-  const long k_first = static_cast<long>(std::ceil((p.x_min_m - p.sleeper_offset_m) / L - 1e-9));
-  const long k_last = static_cast<long>(std::floor((p.x_max_m - p.sleeper_offset_m) / L + 1e-9));
-  const long n_s = k_last - k_first + 1;
+  sleeper_x_ = p.layout.sleeperPositions();
+  const long n_s = static_cast<long>(sleeper_x_.size());
   if (n_s < 2) throw std::invalid_argument("track: fewer than 2 sleepers in the extent");
-  sleeper_x_.resize(n_s);
-  for (long i = 0; i < n_s; ++i) sleeper_x_[i] = p.sleeper_offset_m + static_cast<double>(k_first + i) * L;
   const long n_nodes = (n_s - 1) * ne + 1;
   element_length_ = L / ne;
   node_x_.resize(n_nodes);

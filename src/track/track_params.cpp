@@ -17,17 +17,16 @@ std::string foundationName(FoundationModel model) {
   return "?";
 }
 
-TrackParams loadTrackParams(const ConfigNode& track) {
+TrackParams loadTrackParams(const ConfigNode& root) {
+  const ConfigNode track = root.section("track");
   TrackParams p;
+  p.layout = loadTrackLayout(root);
   const ConfigNode rail = track.section("rail");
   p.rail_bending_stiffness_n_m2 = rail.number("bending_stiffness_n_m2", Range::open(1.0e3, 1.0e9));
   p.rail_mass_per_length_kg_m = rail.number("mass_per_length_kg_m", Range::open(1.0, 1000.0));
   p.elements_per_bay = static_cast<int>(rail.integer("elements_per_bay", 1, 64));
 
-  const ConfigNode sleeper = track.section("sleeper");
-  p.sleeper_spacing_m = sleeper.number("spacing_m", Range{0.0, 5.0, true, false});
-  p.sleeper_mass_kg = sleeper.number("mass_kg", Range::open(0.0, 1.0e4));
-  p.sleeper_offset_m = sleeper.number("offset_m", Range::any(), 0.0);
+  p.sleeper_mass_kg = track.section("sleeper").number("mass_kg", Range::open(0.0, 1.0e4));
 
   const ConfigNode pad = track.section("railpad");
   p.railpad_stiffness_n_m = pad.number("stiffness_n_m", Range::open(0.0, 1.0e12));
@@ -65,11 +64,6 @@ TrackParams loadTrackParams(const ConfigNode& track) {
     p.foundation = FoundationModel::Rigid;
   }
 
-  const ConfigNode extent = track.section("extent");
-  p.x_min_m = extent.number("x_min_m", Range::open(-1.0e5, 1.0e5));
-  p.x_max_m = extent.number("x_max_m", Range::open(-1.0e5, 1.0e5));
-  if (!(p.x_max_m > p.x_min_m)) extent.fail("x_max_m", "must be greater than x_min_m");
-
   if (track.has("ends")) {
     const ConfigNode ends = track.section("ends");
     p.ends.absorbing_length_m = ends.number("absorbing_length_m", Range{0.0, 1.0e4, false, true});
@@ -79,18 +73,17 @@ TrackParams loadTrackParams(const ConfigNode& track) {
   }
 
   // Consistency: number of sleepers and room for the end layers.
-  const double L = p.sleeper_spacing_m;
-  const double k_first = std::ceil((p.x_min_m - p.sleeper_offset_m) / L - 1e-9);
-  const double k_last = std::floor((p.x_max_m - p.sleeper_offset_m) / L + 1e-9);
-  const double count = k_last - k_first + 1.0;
+  const TrackLayout& layout = p.layout;
+  const ConfigNode extent = track.section("extent");
+  const long count = layout.sleeperCount();
   if (count < TrackParams::kMinSleepers) {
     std::ostringstream why;
-    why << "the extent [" << p.x_min_m << ", " << p.x_max_m << "] m holds " << std::max(0.0, count)
-        << " sleepers at spacing " << L << " m; at least " << TrackParams::kMinSleepers << " are needed";
+    why << "the extent [" << layout.x_min_m << ", " << layout.x_max_m << "] m holds " << std::max(0L, count)
+        << " sleepers at spacing " << layout.spacing_m << " m; at least " << TrackParams::kMinSleepers << " are needed";
     extent.fail("x_max_m", why.str());
   }
   if (count > 200000) extent.fail("x_max_m", "track too long (more than 200000 sleepers)");
-  if (2.0 * p.ends.absorbing_length_m >= 0.8 * (p.x_max_m - p.x_min_m)) {
+  if (2.0 * p.ends.absorbing_length_m >= 0.8 * (layout.x_max_m - layout.x_min_m)) {
     track.section("ends").fail("absorbing_length_m",
                                "the two end layers would cover more than 80 % of the track extent");
   }

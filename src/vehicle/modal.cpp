@@ -169,8 +169,8 @@ std::vector<Mode> vehicleModesFlexible(const VehicleModel& model, const track::T
                                        const ModalOptions& opt) {
   const auto x = wheelPositions(model, opt.front_axle_x_m);
   track::TrackParams tp = track_params;
-  tp.x_min_m = *std::min_element(x.begin(), x.end()) - opt.margin_m;
-  tp.x_max_m = *std::max_element(x.begin(), x.end()) + opt.margin_m;
+  tp.layout.x_min_m = *std::min_element(x.begin(), x.end()) - opt.margin_m;
+  tp.layout.x_max_m = *std::max_element(x.begin(), x.end()) + opt.margin_m;
   tp.ends.absorbing_length_m = 0.0;
   FlexibleRail rail(tp, 1e-5);
   const StaticState s = staticEquilibrium(model, rail, x, std::vector<double>(x.size(), 0.0));

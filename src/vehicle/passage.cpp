@@ -111,7 +111,11 @@ void FlexibleRail::ballastForces(std::vector<double>& out) const { impl_->newmar
 std::vector<double> FlexibleRail::sleeperPositions() const { return impl_->model.sleeperPositions(); }
 double FlexibleRail::xMin() const { return impl_->model.interiorStart(); }
 double FlexibleRail::xMax() const { return impl_->model.interiorEnd(); }
-double FlexibleRail::railDisplacement(double x) const { return impl_->newmark.railDisplacement(x); }
+
+std::unique_ptr<RailSupport> makeRailSupport(const PassageParams& params, const track::TrackParams& track) {
+  if (params.vehicle_track == VehicleTrack::Rigid) return std::make_unique<RigidRail>();
+  return std::make_unique<FlexibleRail>(track, params.time_step_s);
+}
 
 // ------------------------------------------------------------------ statics
 StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, const std::vector<double>& x,
@@ -173,18 +177,22 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
     : model_(model), unevenness_(unevenness), params_(params), rail_(std::move(rail)), options_(options) {
   nw_ = model_.wheelCount();
   const double dt = params_.time_step_s;
-  // ---- accuracy of the time step (Newmark beta = 1/4 is unconditionally stable)
+  // ---- accuracy of the time step (Newmark beta = 1/4 is unconditionally stable), from the
+  // lightest body on the contact and the smallest wheel, whatever the vehicle
   {
     const double C = model_.params().hertz_constant_n_m1_5;
     const double f_mean = model_.weightPerRail() / nw_;
     const double kH = 1.5 * C * std::sqrt(std::pow(f_mean / C, 2.0 / 3.0));
-    double m_min = std::min(model_.params().tread_mass_kg, model_.params().trailer_mass_kg);
+    const auto& wheels = model_.wheels();
+    const auto by_mass = [](const WheelInfo& a, const WheelInfo& b) { return a.contact_mass_kg < b.contact_mass_kg; };
+    const auto by_radius = [](const WheelInfo& a, const WheelInfo& b) { return a.radius_m < b.radius_m; };
+    const double m_min = std::min_element(wheels.begin(), wheels.end(), by_mass)->contact_mass_kg;
     const double f_contact = std::sqrt(kH / m_min) / (2.0 * M_PI);  // wheel-on-Hertz mode (upper bound)
     const double steps_per_period = 1.0 / (f_contact * dt);
     const auto& d = unevenness_.params().defect;
     double defect_time = 1e300;
     if (d.enabled && d.height_m > 0.0) {
-      const double R = std::min(model_.params().motor_radius_m, model_.params().trailer_radius_m);
+      const double R = std::min_element(wheels.begin(), wheels.end(), by_radius)->radius_m;
       defect_time = (2.0 * defectClimbLength(d, R) + d.length_m) / params_.speed_m_s;
     }
     std::ostringstream msg;
@@ -251,7 +259,7 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
 
 void VehiclePassage::positionsAt(double t, std::vector<double>& x) const {
   x.resize(model_.wheelCount());
-  const double front = params_.front_axle_start_m + params_.speed_m_s * t;
+  const double front = frontAxlePosition(t);
   for (int i = 0; i < model_.wheelCount(); ++i) x[i] = front - model_.wheels()[i].offset_m;
 }
 

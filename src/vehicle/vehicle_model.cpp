@@ -134,6 +134,7 @@ VehicleModel::VehicleModel(const VehicleParams& p) : params_(p) {
     w.offset_m = p.axle_offsets_m[a];
     w.radius_m = w.type == AxleType::Motor ? p.motor_radius_m : p.trailer_radius_m;
     w.bogie = a / 2;
+    w.contact_mass_kg = m_full_[contact_full[a]];
     w.contact_dof = contact_full[a] - 2;
     B_(w.contact_dof, a) = 1.0;
     wheels_.push_back(w);

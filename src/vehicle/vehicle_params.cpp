@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "railvib/common/site.hpp"
+
 namespace railvib::vehicle {
 
 namespace {
@@ -113,9 +115,9 @@ UnevennessParams loadUnevennessParams(const ConfigNode& root) {
   u.defect.height_m = d.number("height_m", Range::closed(0.0, 0.05));
   u.defect.length_m = d.number("length_m", Range::closed(0.0, 1.0));
   if (u.defect.enabled && root.has("track")) {
-    const ConfigNode ext = root.section("track").section("extent");
-    const double x0 = ext.number("x_min_m", Range::any());
-    const double x1 = ext.number("x_max_m", Range::any());
+    const TrackLayout track = loadTrackLayout(root);
+    const double x0 = track.x_min_m;
+    const double x1 = track.x_max_m;
     if (u.defect.position_m < x0 || u.defect.position_m + u.defect.length_m > x1) {
       d.fail("position_m", "the defect [" + fmt(u.defect.position_m) + ", " +
                                fmt(u.defect.position_m + u.defect.length_m) + "] m lies outside the modelled track [" +
@@ -152,6 +154,8 @@ UnevennessParams loadUnevennessParams(const ConfigNode& root) {
 PassageParams loadPassageParams(const ConfigNode& root) {
   const ConfigNode s = root.section("simulation");
   PassageParams p;
+  p.vehicle_track = s.choice("vehicle_track", {"flexible", "rigid"}, "flexible") == "rigid" ? VehicleTrack::Rigid
+                                                                                            : VehicleTrack::Flexible;
   p.speed_m_s = s.number("speed_m_s", Range::open(0.0, 100.0));
   p.duration_s = s.number("duration_s", Range::open(0.0, 600.0));
   // Newmark beta=1/4 is unconditionally stable; accuracy limits dt: the

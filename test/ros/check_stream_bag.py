@@ -136,6 +136,11 @@ class StreamBagTest(unittest.TestCase):
             # Same core code on the same samples: equal to rounding of the CSV round trip.
             self.assertAlmostEqual(live[name].kb_f_max, kb, delta=1e-9 + 1e-6 * abs(kb), msg=name + " KB_Fmax")
             self.assertAlmostEqual(live[name].ppv_m_s, ppv, delta=1e-12 + 1e-6 * abs(ppv), msg=name + " PPV")
+            # The governing component and the DIN 4150-3 verdict: one rule (signal::din4150_3Verdict) for both.
+            self.assertEqual(["vx", "vy", "vz"][live[name].governing_component],
+                             offline["din4150_3"]["governing_component"], name + " governing component")
+            self.assertEqual(live[name].din4150_3_verdict == 0, offline["din4150_3"]["verdict"] == "met",
+                             name + " DIN 4150-3 verdict")
         shutil.rmtree(workdir, ignore_errors=True)
 
 

@@ -26,7 +26,11 @@ import xml.etree.ElementTree as ET
 
 import rosbag
 
-STREAMS = ["/contact_forces", "/soil_loads", "/surface_velocities", "/building_response", "/sensor_samples"]
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+import railvib_names as names  # noqa: E402
+from compare_bags import compare_topic  # noqa: E402
+
+STREAMS = names.STREAMS
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_scenarios_"))
 PORT = [11500 + os.getpid() % 400]
 
@@ -71,14 +75,9 @@ class ScenarioChecks(unittest.TestCase):
             code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
             self.assertTrue(bag.exists(), f"run {name} wrote no bag (exit {code}):\n{out[-3000:]}")
             bags.append(bag)
-        for topic in STREAMS:
-            a = sorted(stream_blocks(bags[0], topic), key=lambda m: m.first_sample_index)
-            b = sorted(stream_blocks(bags[1], topic), key=lambda m: m.first_sample_index)
-            self.assertGreater(len(a), 0, topic)
-            self.assertEqual(len(a), len(b), topic + ": block counts differ")
-            for x, y in zip(a, b):
-                x.header.seq = y.header.seq = 0  # roscpp's own counter, not data
-                self.assertEqual(x, y, f"{topic}: block at sample {x.first_sample_index} differs between runs")
+        for topic in STREAMS + [names.SENSOR_METRICS]:
+            same, line = compare_topic(bags[0], bags[1], topic)
+            self.assertTrue(same, line)
 
     def test_killed_node_stops_the_launch_and_leaves_a_readable_bag(self):
         bag = WORK / "killed.bag"
@@ -119,9 +118,9 @@ class ScenarioChecks(unittest.TestCase):
         got = json.loads(probe_out.read_text())
 
         with rosbag.Bag(str(source)) as bag:
-            snapshots = {m.header.stamp.to_nsec(): m for _, m, _ in bag.read_messages(topics=["/surface_snapshot"])}
+            snapshots = {m.header.stamp.to_nsec(): m for _, m, _ in bag.read_messages(topics=[names.SURFACE_SNAPSHOT])}
             recorded_metrics = {}
-            for _, m, _ in bag.read_messages(topics=["/sensor_metrics"]):
+            for _, m, _ in bag.read_messages(topics=[names.SENSOR_METRICS]):
                 recorded_metrics[m.sensor_name] = m  # the last one covers the whole run
             tf_count = sum(1 for _ in bag.read_messages(topics=["/tf"]))
 
@@ -137,11 +136,12 @@ class ScenarioChecks(unittest.TestCase):
                 self.assertAlmostEqual(v_mm_s, 1000.0 * v_m_s, delta=1e-6 * max(1.0, abs(v_mm_s)))
         for ns in ("rails", "sleepers", "building", "sensors", "tram_carbodies", "tram_wheels"):
             self.assertIn(ns, got["marker_namespaces"])
-        for frame in ("tram/front_carbody", "tram/leading_bogie", "building", "sensor_ground_2m"):
+        for frame in (names.tram_body_frame("front_carbody"), names.tram_body_frame("leading_bogie"),
+                      names.BUILDING_FRAME, names.sensor_frame("ground_2m")):
             self.assertIn(frame, got["marker_frames"])
         # The tram poses come back on /tf, every one of them.
         self.assertEqual(got["tf_messages"], tf_count)
-        self.assertEqual(got["tf_frames"].get("tram/front_carbody"), tf_count)
+        self.assertEqual(got["tf_frames"].get(names.tram_body_frame("front_carbody")), tf_count)
         # The virtual sensors on the replayed streams give the metrics recorded live.
         self.assertEqual(sorted(got["metrics"]), sorted(recorded_metrics))
         for name, live in recorded_metrics.items():

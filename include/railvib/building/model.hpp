@@ -70,6 +70,12 @@ struct FootprintPoint {
 /// rectangle, at the ground surface), in the order used by every streaming API.
 std::vector<FootprintPoint> footprintPoints(const BuildingParams& params);
 
+/// Free-field soil receivers of the house plan, frame track, on the surface (where the house
+/// stands, without it): its corners, wall mid-points and centre (names::buildingPlanPoint), and
+/// the plan position of the first response point (names::kBuildingResponseFreeFieldPoint), to
+/// compare the house's response with the ground's.
+std::vector<NamedPoint> freeFieldPoints(const BuildingParams& params);
+
 /// A response point snapped to the nearest mesh node.
 struct ResponseNode {
   std::string name;

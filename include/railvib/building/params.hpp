@@ -85,9 +85,9 @@ struct BuildingParams {
   std::vector<Opening> openings;
   std::vector<InteriorWall> interior_walls;  ///< [assumed] none by default
 
-  // Placement in the track frame (from `site`).
-  double origin_x_track_m = 0.0;  ///< track x of the building frame origin
-  double origin_y_track_m = 0.0;  ///< track y of the building frame origin
+  /// Placement in the track frame (loadBuildingPlacement: site.building; length_m and width_m above
+  /// are its plan, read there once).
+  BuildingPlacement placement;
 };
 
 /// Load and validate `building` (and, if present, `site` for the placement).

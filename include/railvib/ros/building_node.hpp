@@ -37,7 +37,7 @@ class BuildingNode {
   std::vector<building::FootprintPoint> footprint_;
   std::vector<int> receiver_of_footprint_;  // soil receiver index of each footprint point
   LayoutGate gate_;                         // velocities wait for the receiver layout
-  double origin_x_m_ = 0.0, origin_y_m_ = 0.0;
+  BuildingPlacement placement_;             // frame building in frame track
   BlockPublisher<railvib::BuildingResponse> publisher_;
   ros::Publisher layout_publisher_;
   ros::Subscriber layout_subscriber_, velocity_subscriber_;

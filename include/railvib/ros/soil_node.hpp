@@ -32,10 +32,12 @@ class SoilNode {
   void onLoads(const railvib::SoilLoads::ConstPtr& msg);
   void consume(const railvib::SoilLoads& msg);
   void publishOutputs(bool end_of_stream);
+  /// The house's receivers (free field, and footprint if asked), none without a `building` section.
+  static soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint);
 
   soil::SoilParams params_;
   std::unique_ptr<soil::SoilModel> model_;
-  double duration_s_ = 0.0;
+  double load_sample_rate_hz_ = 0.0;
   BlockPublisher<railvib::SurfaceVelocities> velocity_publisher_;
   ros::Publisher layout_publisher_, snapshot_publisher_;
   ros::Subscriber layout_subscriber_, loads_subscriber_;

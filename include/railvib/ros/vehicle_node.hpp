@@ -18,7 +18,8 @@ namespace railvib::ros_io {
 
 class VehicleNode {
  public:
-  /// Private parameters: ~track (flexible|rigid, default flexible), ~block_samples (default 1000),
+  /// The rail under the vehicle is simulation.vehicle_track (config). Private parameters:
+  /// ~block_samples (default 1000),
   /// ~required_subscribers (default 1), ~tf_period_s (simulated time between tf poses, default 0.01),
   /// ~tf_required_subscribers (subscribers of /tf to wait for before the first pose, e.g. the
   /// recorder, default 0: then a late listener misses the first poses).

@@ -21,6 +21,7 @@
 #include "railvib/common/sample_stream.hpp"
 #include "railvib/ros/block_publisher.hpp"
 #include "railvib/ros/layout_gate.hpp"
+#include "railvib/ros/node_status.hpp"
 #include "railvib/signal/virtual_sensor.hpp"
 
 namespace railvib::ros_io {
@@ -30,7 +31,8 @@ class VirtualSensorNode {
   /// Private parameters: ~use_building (default true), ~required_subscribers (sensor_samples, default 1),
   /// ~block_samples (sensor_samples block length, default 100).
   VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
-  bool failed() const { return failed_; }
+  /// True after an error (gap in a stream, unknown point...); the node has shut ROS down.
+  bool failed() const { return status_->failed(); }
 
   /// One input stream's block (SurfaceVelocities or BuildingResponse share this layout).
   struct InputBlock {
@@ -65,7 +67,7 @@ class VirtualSensorNode {
   void publishSamples(Sensor& s, const std::vector<signal::SensorSample>& samples, size_t from);
   void publishMetrics(Sensor& s, double time_s);
   void publishBlocks(bool end_of_stream);
-  void fail(const std::string& what);
+  void restartPass(Source& source);
 
   signal::VirtualSensorConfig config_;
   std::vector<Sensor> sensors_;
@@ -76,7 +78,7 @@ class VirtualSensorNode {
   size_t block_samples_ = 100;
   uint64_t next_block_index_ = 0;
   uint64_t metrics_every_ = 100;
-  bool failed_ = false;
+  std::unique_ptr<NodeStatus> status_;
   bool finished_ = false;
 };
 

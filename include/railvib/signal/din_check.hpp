@@ -1,5 +1,5 @@
 // railvib/signal: runnable verification of the KB evaluation against the
-// DIN 45669-1 / DIN 4150-2 test values of PHYSICS.md §4 (continuous sine of
+// DIN 45669-1 / DIN 4150-2 test values (DIN 45669-1 test table, continuous sine of
 // amplitude 1 mm/s): KB_F is the steady mean of KB_F(t), KB_Fmax the maximum
 // of its ripple (the running rms of a sine oscillates at twice its frequency).
 #pragma once

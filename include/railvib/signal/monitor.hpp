@@ -65,4 +65,18 @@ struct RecordMetrics {
 /// Offline: the monitor over a whole record; components[c][i] in m/s.
 RecordMetrics evaluateRecord(const std::vector<std::vector<double>>& components_m_s, const MonitorSpec& spec);
 
+/// The verdicts of one sensor's metrics: DIN 4150-2 on KB_Fmax (people in buildings) and DIN 4150-3
+/// on the component peaks (structures, at the foundation). The sensor's level is the DIN 4150-2
+/// level, raised to Error when the sensor stands on the structure (a house sensor) and DIN 4150-3 is
+/// not met; ground sensors carry the DIN 4150-3 evaluation for information.
+struct SensorVerdict {
+  VerdictLevel level = VerdictLevel::Ok;
+  std::string reason;
+  Din4150_2Verdict din4150_2;
+  Din4150_3Verdict din4150_3;
+};
+/// kb_ftr: the DIN 4150-2 rating if known (offline, with an exposure time), else none (live).
+SensorVerdict sensorVerdict(const MonitorSnapshot& metrics, Din4150_2Period period, bool on_structure,
+                            std::optional<double> kb_ftr = std::nullopt);
+
 }  // namespace railvib::signal

@@ -13,6 +13,7 @@
 #include <complex>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,15 +88,22 @@ double kbFTm(const std::vector<double>& kb_f, double fs_hz, double cycle_s = 30.
 /// class, no rest-period surcharge; T_r = 16 h day, 8 h night).
 double kbFTr(double kb_ftm, double exposure_s, Din4150_2Period period);
 
+/// Level of a verdict; the values are those of railvib/VibrationMetrics (VERDICT_OK, _WARN, _ERROR).
+enum class VerdictLevel : uint8_t { Ok = 0, Warn = 1, Error = 2 };
+
 struct Din4150_2Verdict {
   bool met = false;
+  /// Ok: met; Error: not met; Warn: A_u < KB_Fmax <= A_o and no KB_FTr given (the rating decides).
+  VerdictLevel level = VerdictLevel::Error;
   std::string reason;
   Din4150_2GuideValues guide{};
   double kb_fmax = 0.0;
-  double kb_ftr = 0.0;
+  double kb_ftr = 0.0;  ///< 0 when not given
 };
-/// DIN 4150-2 procedure: KB_Fmax <= A_u met; KB_Fmax > A_o not met; otherwise met iff KB_FTr <= A_r.
-Din4150_2Verdict din4150_2Verdict(double kb_fmax, double kb_ftr, Din4150_2Period period);
+/// DIN 4150-2 procedure (section 6.5.3): KB_Fmax <= A_u met; KB_Fmax > A_o not met; otherwise met
+/// iff KB_FTr <= A_r. Without KB_FTr (a live sensor, whose exposure is not known yet) the middle
+/// case is a warning: not met until a rating says otherwise.
+Din4150_2Verdict din4150_2Verdict(double kb_fmax, std::optional<double> kb_ftr, Din4150_2Period period);
 
 // ----------------------------------------------------------- PPV / DIN 4150-3
 
@@ -171,5 +179,20 @@ class PpvEvaluator {
 
 /// Offline evaluation of component records (mm/s).
 PpvEvaluation evaluatePpv(const std::vector<std::vector<double>>& components_mm_s, double fs_hz);
+
+/// The component that governs DIN 4150-3 (each component's peak is judged against the guideline at
+/// its own dominant frequency): the one with the largest ppv / limit. With three components (x, y,
+/// z) the vertical one governs unless another is strictly closer to its limit; with fewer, the
+/// first of the largest. 0 when there is no component.
+size_t governingComponent(const PpvEvaluation& ppv);
+
+struct Din4150_3Verdict {
+  bool met = true;  ///< every component within its guideline (max ppv / limit <= 1)
+  VerdictLevel level = VerdictLevel::Ok;
+  size_t governing_component = 0;
+  PpvComponent governing;  ///< its peak, dominant frequency and guideline
+};
+/// DIN 4150-3 Table 1 row 2 (residential building, short-term, at the foundation).
+Din4150_3Verdict din4150_3Verdict(const PpvEvaluation& ppv);
 
 }  // namespace railvib::signal

@@ -1,7 +1,7 @@
 // railvib/soil: the soil model as a stream processor — the whole computation
 // of the soil node (the node only moves messages).
 //
-//   SoilModel model(params, params.sleeperPositions());
+//   SoilModel model(params, params.track.sleeperPositions(), load_rate_hz);
 //   model.pushLoads(first_index, forces, frames);   // [frame][sleeper], N, downward +, both rails
 //   model.advance(t_target);                          // steps as far as the loads allow
 //   model.takeReceiverSamples(block);                 // new receiver frames (filtered, receiver rate)
@@ -69,8 +69,9 @@ class SoilModel {
  public:
   /// Builds the mesh and the solver, and attaches the rigid bodies (e.g. a house's foundation,
   /// coupling/house_foundation.hpp); sleepers outside the mesh are an error or dropped
-  /// (params.loads_outside_mesh). Throws ConfigError / std::invalid_argument.
-  SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m,
+  /// (params.loads_outside_mesh). load_sample_rate_hz: rate of the load stream (the track's
+  /// track.output.load_sample_rate_hz). Throws ConfigError / std::invalid_argument.
+  SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
             const std::vector<RigidBodySpec>& bodies = {});
   ~SoilModel();
 

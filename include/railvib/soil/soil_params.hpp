@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "railvib/common/config.hpp"
+#include "railvib/common/site.hpp"
 #include "railvib/soil/mesh.hpp"
 #include "railvib/soil/solver.hpp"
 
@@ -14,6 +15,16 @@ namespace railvib::soil {
 struct ReceiverSpec {
   std::string name;
   double x_m = 0.0, y_m = 0.0, z_m = 0.0;
+  /// Where it comes from (a config key path), for error messages.
+  std::string origin;
+};
+
+/// Receivers the house asks the soil for (frame track, on the surface), named by the building
+/// domain: its free field (building::freeFieldPoints; kept if soil.output.building_receivers) and
+/// the footprint points that drive its foundation (building::footprintPoints).
+struct HouseReceivers {
+  std::vector<NamedPoint> free_field;
+  std::vector<NamedPoint> footprint;
 };
 
 struct SoilParams {
@@ -26,26 +37,21 @@ struct SoilParams {
   /// Vertical section x = section_x_m recorded at the snapshot rate (paper, Fig. 16), if enabled.
   bool section_enabled = false;
   double section_x_m = 0.0;
-  /// Sleeper footprint on the surface, centred on the track axis (y = 0).
-  double sleeper_length_m = 2.6, sleeper_width_m = 0.25;
-  /// Sleeper positions rule of the track model: offset + k * spacing within the extent.
-  double sleeper_spacing_m = 0.72, sleeper_offset_m = 0.0, track_x_min_m = -40.0, track_x_max_m = 40.0;
-  /// Sleepers whose footprint is not inside the mesh: "error" or "drop" (their load is ignored, reported).
+  /// The sleepers (positions rule and footprint on the surface, centred on the track axis y = 0).
+  TrackLayout track;
+  /// Sleepers whose footprint is not inside the mesh: "error" or "drop" (their load is ignored;
+  /// SoilModel::droppedSleepers lists them).
   std::string loads_outside_mesh = "error";
   /// Start from static equilibrium under the first load sample: the model is linear, so the
   /// velocities are those of the load increments F(t) - F(0) from rest (no start-up step).
   bool start_from_static = true;
-  double load_sample_rate_hz = 2000.0;
-  double duration_s = 5.0;
+  /// Ground sensors (site.ground_sensors), the receiver line, then the house's receivers.
   std::vector<ReceiverSpec> receivers;
-
-  /// Sleeper x positions by the track model's rule.
-  std::vector<double> sleeperPositions() const;
 };
 
-/// Read `soil`, and the keys it needs from `track`, `site`, `building`, `simulation`.
-/// Throws ConfigError (key path, value, range, file) on bad input, including
-/// receivers outside the mesh box and a mesh that would not fit in max_memory_gb.
-SoilParams loadSoilParams(const ConfigNode& root);
+/// Read `soil`, the track layout and the site's ground sensors, and add the house's receivers.
+/// Throws ConfigError (key path, value, range, file) on bad input, including receivers outside the
+/// mesh box or in its absorbing layer, and a mesh that would not fit in max_memory_gb.
+SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house = {});
 
 }  // namespace railvib::soil

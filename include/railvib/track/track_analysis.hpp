@@ -23,7 +23,8 @@ double pinnedPinnedFrequency(const TrackParams& p);
 
 /// Analytic direct receptance (m/N) of the continuous Euler-Bernoulli beam on a
 /// smeared 2-layer support (pad / sleeper mass / ballast per metre, ballast on
-/// a rigid base) - PHYSICS.md section 4. Convention: load F e^{i w t}, positive downward.
+/// a rigid base; Knothe & Grassie, Vehicle System Dynamics 22, 1993). Convention: load F e^{i w t},
+/// positive downward.
 std::complex<double> continuousBeamReceptance(const TrackParams& p, double frequency_hz);
 
 /// Static deflection under a point load of the continuous beam on a smeared

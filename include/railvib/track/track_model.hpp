@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "railvib/common/config.hpp"
+#include "railvib/common/site.hpp"
 
 namespace railvib::track {
 
@@ -75,11 +76,9 @@ struct TrackParams {
   double rail_bending_stiffness_n_m2 = 4.17e6;
   double rail_mass_per_length_kg_m = 54.0;
   int elements_per_bay = 4;
-  // sleepers
-  double sleeper_spacing_m = 0.72;
+  /// Sleepers (at x = offset + k * spacing inside the extent [x_min, x_max]) and their footprint.
+  TrackLayout layout;
   double sleeper_mass_kg = 45.0;
-  /// Sleepers at x = offset + k * spacing inside [x_min, x_max].
-  double sleeper_offset_m = 0.0;
   // railpad, ballast (per rail seat)
   double railpad_stiffness_n_m = 90.0e6;
   double railpad_damping_n_s_m = 30.0e3;
@@ -89,9 +88,6 @@ struct TrackParams {
   FoundationModel foundation = FoundationModel::Clm;
   ClmParams clm;
   WinklerParams winkler;
-  // extent and ends
-  double x_min_m = -50.0;
-  double x_max_m = 50.0;
   EndParams ends;
   /// Rate of the ballast-to-soil loads handed to the soil (decimation target).
   double load_sample_rate_hz = 2000.0;
@@ -100,8 +96,9 @@ struct TrackParams {
   static constexpr int kMinSleepers = 10;
 };
 
-/// Read and validate the `track` section (ranges + consistency). Throws ConfigError.
-TrackParams loadTrackParams(const ConfigNode& track_section);
+/// Read and validate the `track` section (ranges + consistency; the layout by loadTrackLayout).
+/// Throws ConfigError.
+TrackParams loadTrackParams(const ConfigNode& root);
 
 /// A position on the rail: the 4 DOFs of the Hermite element holding it and
 /// the shape-function weights. Rail displacement w(x) = sum weights[k] * u[dofs[k]],

@@ -90,14 +90,15 @@ class FlexibleRail : public RailSupport {
   std::vector<double> sleeperPositions() const override;
   double xMin() const override;
   double xMax() const override;
-  /// Rail displacement (m, downward) at x, committed state.
-  double railDisplacement(double x_m) const;
   struct Impl;
   Impl& impl() { return *impl_; }
 
  private:
   std::unique_ptr<Impl> impl_;
 };
+
+/// The rail of a passage: FlexibleRail on the track model, or RigidRail (params.vehicle_track).
+std::unique_ptr<RailSupport> makeRailSupport(const PassageParams& params, const track::TrackParams& track);
 
 /// Solve F = C_H max(d_free - G F, 0)^1.5 by Newton (F in/out: initial guess
 /// and result). Returns the iteration count; throws std::runtime_error if not
@@ -167,8 +168,10 @@ class VehiclePassage {
   const std::vector<double>& unevennessUnderWheels() const { return z_; }
   const std::vector<double>& railDisplacementUnderWheels() const { return w_rail_; }
   std::vector<BodyPose> bodyPoses() const { return model_.poses(q_); }
-  /// Front axle position at the current time (body poses are offsets behind it).
-  double frontAxlePosition() const { return params_.front_axle_start_m + params_.speed_m_s * time(); }
+  /// Front axle position at time t_s (wheels and body poses are offsets behind it).
+  double frontAxlePosition(double t_s) const { return params_.front_axle_start_m + params_.speed_m_s * t_s; }
+  /// Front axle position at the current time.
+  double frontAxlePosition() const { return frontAxlePosition(time()); }
   const Eigen::VectorXd& displacement() const { return q_; }
   const Eigen::VectorXd& velocity() const { return v_; }
   /// Largest Newton iteration count so far.

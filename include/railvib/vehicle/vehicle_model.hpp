@@ -50,6 +50,8 @@ struct WheelInfo {
   AxleType type = AxleType::Motor;
   double offset_m = 0.0;  ///< behind the front axle
   double radius_m = 0.34;
+  /// Mass of the body that carries the contact (tread or trailer wheel), kg.
+  double contact_mass_kg = 0.0;
   int bogie = 0;
   Eigen::Index contact_dof = -1;  ///< reduced-coordinate DOF carrying the contact (tread / trailer wheel)
 };

@@ -101,7 +101,14 @@ struct UnevennessParams {
   MeasuredProfileParams measured;
 };
 
+/// The rail the vehicle runs on in the passage (simulation.vehicle_track).
+enum class VehicleTrack {
+  Flexible,  ///< coupled vehicle/track solve on the track model
+  Rigid,     ///< undeformable rail (the track node still turns the contact forces into ballast loads)
+};
+
 struct PassageParams {
+  VehicleTrack vehicle_track = VehicleTrack::Flexible;
   double speed_m_s = 30.0 / 3.6;
   double duration_s = 5.0;
   double time_step_s = 1.0e-5;
@@ -119,7 +126,8 @@ VehicleParams loadVehicleParams(const ConfigNode& root);
 /// Read `unevenness` (defect; optional random/measured); checks the defect lies
 /// inside the modelled track (`track.extent`) when that section exists.
 UnevennessParams loadUnevennessParams(const ConfigNode& root);
-/// Read `simulation` (speed, duration, time step, front axle start).
+/// Read `simulation` (rail under the vehicle, speed, duration, time step, front axle start): the one
+/// loader of that section, for every node and command that needs its values.
 PassageParams loadPassageParams(const ConfigNode& root);
 
 }  // namespace railvib::vehicle

@@ -2,11 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "railvib/building/modal.hpp"
 #include "railvib/building/model.hpp"
 #include "railvib/building/response.hpp"
 #include "railvib/common/config.hpp"
+#include "railvib/common/site.hpp"
 
 using namespace railvib;
 using namespace railvib::building;
@@ -246,4 +248,45 @@ TEST(House, InteriorWallAddsItsMassAndStiffensTheFloor) {
   EXPECT_GT(modalAnalysis(walled, opt).modes[0].frequency_hz, 1.3 * modalAnalysis(plain, opt).modes[0].frequency_hz);
   const std::string e = configError({"building.interior_walls=[{along: x, position_m: 6.9}]"});
   EXPECT_NE(e.find("building.interior_walls[0].position_m"), std::string::npos) << e;
+}
+
+// The house's placement is loaded once (loadBuildingPlacement): the site, the building and the
+// placement give one message, with one range, for a bad site or plan value; the soil's free-field
+// receivers and the footprint follow the placement and the configured response point.
+TEST(House, PlacementValuesAreRefusedOnceAndHandedOn) {
+  auto message = [](const std::string& override_value, const std::function<void(const ConfigNode&)>& load) {
+    try {
+      load(houseConfig({override_value}).root());
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const auto site = [](const ConfigNode& root) { loadSiteLayout(root); };
+  const auto house = [](const ConfigNode& root) { loadBuildingParams(root); };
+  for (const std::string bad : {"site.rail_gauge_m=5.0", "site.building.front_wall_distance_from_rail_m=0.0",
+                                "building.length_m=-10.0", "building.width_m=0.0"}) {
+    const std::string refused = message(bad, site);
+    EXPECT_NE(refused, "accepted") << bad;
+    EXPECT_EQ(message(bad, house), refused) << bad;
+  }
+  EXPECT_NE(message("site.building.front_wall_distance_from_rail_m=0.0", site).find("(0, inf)"), std::string::npos);
+
+  const BuildingParams p = houseParams();
+  EXPECT_DOUBLE_EQ(p.placement.origin_y_m, 0.5 * 1.435 + 4.0);  // [paper] 4 m from the exterior rail
+  const std::vector<NamedPoint> free_field = freeFieldPoints(p);
+  ASSERT_EQ(free_field.size(), 10u);
+  EXPECT_EQ(free_field[0].name, "bldg_front_left");
+  EXPECT_DOUBLE_EQ(free_field[0].x_m, p.placement.origin_x_m);
+  EXPECT_EQ(free_field[4].name, "bldg_centre");
+  EXPECT_DOUBLE_EQ(free_field[8].y_m, p.placement.origin_y_m + p.width_m);
+  // Below the configured response point (ground floor at 7.5, 3.5 m in frame building).
+  EXPECT_EQ(free_field[9].name, "bldg_response_point");
+  EXPECT_DOUBLE_EQ(free_field[9].x_m, p.placement.trackX(p.response_points[0].x_m));
+  EXPECT_DOUBLE_EQ(free_field[9].y_m, p.placement.trackY(p.response_points[0].y_m));
+  const BuildingParams moved = houseParams({"building.response_points=[{name: a, x_m: 2.0, y_m: 1.0, z_m: 0.0}]"});
+  EXPECT_DOUBLE_EQ(freeFieldPoints(moved)[9].x_m, moved.placement.origin_x_m + 2.0);
+  const auto footprint = footprintPoints(p);
+  EXPECT_EQ(footprint.front().name, "footprint_0_0");
+  EXPECT_DOUBLE_EQ(footprint.front().x_track_m, p.placement.trackX(0.5 * p.wall_thickness_m));
 }

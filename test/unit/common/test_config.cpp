@@ -112,10 +112,12 @@ TEST(Config, HarenScenarioLoadsAndCarriesPaperValues) {
 
 TEST(SiteLayout, PlacesBuildingFourMetresFromExteriorRail) {
   const Config c = Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml");
-  const railvib::SiteLayout site = railvib::loadSiteLayout(c);
-  EXPECT_NEAR(site.building_origin_y_m - site.exterior_rail_y_m, 4.0, 1e-12);  // [paper]
+  const railvib::SiteLayout site = railvib::loadSiteLayout(c.root());
+  ASSERT_TRUE(site.building.has_value());
+  EXPECT_NEAR(site.building->origin_y_m - site.exterior_rail_y_m, 4.0, 1e-12);  // [paper]
   EXPECT_NEAR(site.exterior_rail_y_m, 1.435 / 2, 1e-12);
-  EXPECT_NEAR(site.building_origin_x_m, -5.0, 1e-12);  // 10 m front wall centred on the defect
+  EXPECT_NEAR(site.building->origin_x_m, -5.0, 1e-12);  // 10 m front wall centred on the defect
+  EXPECT_NEAR(site.building->trackX(7.5), 2.5, 1e-12);
   ASSERT_EQ(site.ground_sensors.size(), 2u);
   EXPECT_EQ(site.ground_sensors[0].name, "ground_2m");
   EXPECT_NEAR(site.ground_sensors[1].y_m, 8.0, 1e-12);
@@ -123,7 +125,30 @@ TEST(SiteLayout, PlacesBuildingFourMetresFromExteriorRail) {
 
 TEST(SiteLayout, RejectsDuplicateSensorNames) {
   const Config c = Config::fromString(
-      "building: {length_m: 10}\nsite:\n  rail_gauge_m: 1.435\n  building: {center_x_m: 0, front_wall_distance_from_rail_m: 4}\n"
+      "building: {length_m: 10, width_m: 7}\nsite:\n  rail_gauge_m: 1.435\n  building: {center_x_m: 0, "
+      "front_wall_distance_from_rail_m: 4}\n"
       "  ground_sensors:\n    - {name: a, x_m: 0, y_m: 2}\n    - {name: a, x_m: 0, y_m: 8}\n");
-  EXPECT_THROW(railvib::loadSiteLayout(c), ConfigError);
+  EXPECT_THROW(railvib::loadSiteLayout(c.root()), ConfigError);
+}
+
+TEST(SiteLayout, NoHouseWithoutBuildingSection) {
+  const Config c = Config::fromString("site: {rail_gauge_m: 1.0, ground_sensors: [{name: a, x_m: 0, y_m: 2}]}\n");
+  const railvib::SiteLayout site = railvib::loadSiteLayout(c.root());
+  EXPECT_FALSE(site.building.has_value());
+  EXPECT_DOUBLE_EQ(site.exterior_rail_y_m, 0.5);
+}
+
+TEST(TrackLayout, SleeperRuleHoldsTheExtentEnds) {
+  // 0.72 m spacing from an offset of 0.1 m over [-1, 2]: k = -1 .. 2 (x = -0.62 .. 1.54), an end
+  // exactly on a sleeper included despite rounding.
+  const Config c = Config::fromString(
+      "track: {sleeper: {spacing_m: 0.72, offset_m: 0.1, length_m: 2.6, width_m: 0.25}, "
+      "extent: {x_min_m: -1.0, x_max_m: 1.54}}\n");
+  const railvib::TrackLayout t = railvib::loadTrackLayout(c.root());
+  const std::vector<double> x = t.sleeperPositions();
+  ASSERT_EQ(x.size(), 4u);
+  EXPECT_EQ(t.sleeperCount(), 4);
+  EXPECT_NEAR(x.front(), -0.62, 1e-12);
+  EXPECT_NEAR(x.back(), 1.54, 1e-12);
+  for (size_t i = 1; i < x.size(); ++i) EXPECT_NEAR(x[i] - x[i - 1], 0.72, 1e-12);
 }

@@ -2,7 +2,9 @@
 // DIN 4150-3 guideline line, PPV and dominant frequency.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "railvib/signal/din_check.hpp"
@@ -15,7 +17,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-// PHYSICS.md §4: continuous 1 mm/s (amplitude) sine, KB_F = steady mean, KB_Fmax = ripple maximum.
+// DIN 45669-1 test table: continuous 1 mm/s (amplitude) sine, KB_F = steady mean, KB_Fmax = ripple maximum.
 TEST(KbWeighting, Din45669TestValuesAtSeveralRates) {
   for (const double fs : {500.0, 1000.0, 2000.0, 8000.0}) {
     for (const auto& row : din45669TestTable(fs)) {
@@ -86,6 +88,95 @@ TEST(Din4150_2, GuideValuesAndVerdict) {
   kbf[40] = 0.4;
   EXPECT_NEAR(kbFTm(kbf, 1.0, 30.0), std::sqrt(0.125), 1e-12);
   EXPECT_NEAR(kbFTr(0.2, 4.0 * 3600.0, Din4150_2Period::Day), 0.1, 1e-12);
+}
+
+// DIN 4150-2 Table 1 row 3 guide values as test vectors of the procedure (section 6.5.3), with and
+// without the rating KB_FTr: A_u and A_o themselves belong to the lower case ("<=").
+TEST(Din4150_2, VerdictAtTheGuideValues) {
+  using L = VerdictLevel;
+  const auto day = Din4150_2Period::Day, night = Din4150_2Period::Night;
+  struct Row {
+    double kb_fmax;
+    std::optional<double> kb_ftr;
+    Din4150_2Period period;
+    L level;
+  };
+  const Row rows[] = {
+      {0.15, std::nullopt, day, L::Ok},
+      {0.1501, std::nullopt, day, L::Warn},
+      {3.0, std::nullopt, day, L::Warn},
+      {3.0001, std::nullopt, day, L::Error},
+      {0.1, std::nullopt, night, L::Ok},
+      {0.2, std::nullopt, night, L::Warn},
+      {0.2001, std::nullopt, night, L::Error},
+      {0.5, 0.07, day, L::Ok},
+      {0.5, 0.0701, day, L::Error},
+      {0.15, 1.0, day, L::Ok},
+      {0.15, 0.05, night, L::Ok},
+      {0.15, 0.0501, night, L::Error},
+  };
+  for (const Row& r : rows) {
+    const Din4150_2Verdict v = din4150_2Verdict(r.kb_fmax, r.kb_ftr, r.period);
+    EXPECT_EQ(v.level, r.level) << "KB_Fmax " << r.kb_fmax << " KB_FTr " << r.kb_ftr.value_or(-1) << ": " << v.reason;
+    EXPECT_EQ(v.met, r.level == L::Ok) << r.kb_fmax;
+  }
+}
+
+namespace {
+PpvComponent component(double ppv_mm_s, double frequency_hz) {
+  PpvComponent c;
+  c.ppv_mm_s = ppv_mm_s;
+  c.frequency_hz = frequency_hz;
+  c.limit_mm_s = din4150_3ResidentialLimitMmS(frequency_hz);
+  c.ratio = ppv_mm_s / c.limit_mm_s;
+  return c;
+}
+PpvEvaluation evaluation(const std::vector<PpvComponent>& components) {
+  PpvEvaluation e;
+  e.components = components;
+  for (const auto& c : components) e.max_ratio = std::max(e.max_ratio, c.ratio);
+  e.exceeded = e.max_ratio > 1.0;
+  return e;
+}
+}  // namespace
+
+// DIN 4150-3 judges each component's peak at its own frequency: 4.5 mm/s at 8 Hz (limit 5, 90 %)
+// governs 12 mm/s at 50 Hz (limit 15, 80 %); the vertical governs a tie; 5.5 mm/s at 8 Hz fails.
+TEST(Din4150_3, GoverningComponentIsTheClosestToItsGuideline) {
+  const PpvEvaluation x_governs = evaluation({component(4.5, 8.0), component(1.0, 20.0), component(12.0, 50.0)});
+  EXPECT_EQ(governingComponent(x_governs), 0u);
+  const Din4150_3Verdict v = din4150_3Verdict(x_governs);
+  EXPECT_TRUE(v.met);
+  EXPECT_EQ(v.level, VerdictLevel::Ok);
+  EXPECT_DOUBLE_EQ(v.governing.limit_mm_s, 5.0);
+  EXPECT_DOUBLE_EQ(v.governing.frequency_hz, 8.0);
+  // Ties: vertical first, else the first of the largest.
+  EXPECT_EQ(governingComponent(evaluation({component(2.0, 8.0), component(1.0, 8.0), component(2.0, 8.0)})), 2u);
+  EXPECT_EQ(governingComponent(evaluation({component(2.0, 8.0), component(2.0, 8.0), component(1.0, 8.0)})), 0u);
+  EXPECT_EQ(governingComponent(evaluation({component(1.0, 8.0), component(2.0, 8.0), component(1.0, 8.0)})), 1u);
+  EXPECT_EQ(governingComponent(evaluation({component(1.0, 30.0)})), 0u);
+  EXPECT_EQ(governingComponent(PpvEvaluation{}), 0u);
+  const Din4150_3Verdict fails = din4150_3Verdict(evaluation({component(5.5, 8.0), component(0.0, 0.0)}));
+  EXPECT_FALSE(fails.met);
+  EXPECT_EQ(fails.level, VerdictLevel::Error);
+  EXPECT_EQ(fails.governing_component, 0u);
+}
+
+// A sensor's level: DIN 4150-2's, raised to Error by DIN 4150-3 on a structure only.
+TEST(SensorVerdict, StructureGuidelineCountsOnTheHouseOnly) {
+  MonitorSnapshot m;
+  m.kb_fmax_all = 0.5;  // between A_u and A_o (day): a warning without a rating
+  m.ppv = evaluation({component(1.0, 20.0), component(1.0, 20.0), component(6.0, 8.0)});  // 6 > 5 mm/s at 8 Hz
+  const SensorVerdict ground = sensorVerdict(m, Din4150_2Period::Day, false);
+  EXPECT_EQ(ground.level, VerdictLevel::Warn) << ground.reason;
+  EXPECT_FALSE(ground.din4150_3.met);
+  EXPECT_EQ(ground.din4150_3.governing_component, 2u);
+  const SensorVerdict house = sensorVerdict(m, Din4150_2Period::Day, true);
+  EXPECT_EQ(house.level, VerdictLevel::Error) << house.reason;
+  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, false, 0.01).level, VerdictLevel::Ok);  // rated: met
+  m.kb_fmax_all = 0.1;
+  m.ppv = evaluation({component(1.0, 20.0), component(1.0, 20.0), component(1.0, 8.0)});
+  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, true).level, VerdictLevel::Ok);
 }
 
 TEST(Din4150_3, ResidentialLine) {

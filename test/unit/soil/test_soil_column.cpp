@@ -5,7 +5,7 @@
 using namespace railvib::soil;
 
 // 1D column under a step pressure: particle velocity q / (rho Vp), no reflection
-// from the Lysmer base (PHYSICS.md §4).
+// from the Lysmer base (Lysmer & Kuhlemeyer, J. Eng. Mech. Div. ASCE 95, 1969).
 TEST(SoilColumn, StepVelocityAndBaseReflection) {
   for (Precision pr : {Precision::Float, Precision::Double}) {
     ColumnSpec spec;

@@ -51,7 +51,7 @@ TEST(SoilMesh, MaterialSpeeds) {
   Material m{2.5e8, 2000.0, 0.25};
   EXPECT_NEAR(m.vp() / m.vs(), std::sqrt(3.0), 1e-12);
   EXPECT_NEAR(m.vr() / m.vs(), 0.91940, 2e-5);
-  // Haren layer 1 (PHYSICS.md: Vs ~ 120, Vp ~ 184 m/s); half-space Vs ~ 281, Vp ~ 1430.
+  // Haren layer 1 (the seed paper, Table 3: Vs ~ 120, Vp ~ 184 m/s); half-space Vs ~ 281, Vp ~ 1430.
   EXPECT_NEAR(Material({61e6, 1876, 0.13}).vs(), 120.0, 0.5);
   EXPECT_NEAR(Material({61e6, 1876, 0.13}).vp(), 184.0, 0.5);
   EXPECT_NEAR(Material({465e6, 1992, 0.48}).vs(), 281.0, 0.5);

@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numeric>
 
 #include "railvib/common/config.hpp"
 #include "railvib/common/sample_stream.hpp"
+#include "railvib/common/site.hpp"
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "soil_test_util.hpp"
@@ -15,6 +17,8 @@ using railvib::Config;
 using railvib::ConfigError;
 
 namespace {
+constexpr double kLoadRateHz = 2000.0;  // the track's track.output.load_sample_rate_hz
+
 SoilParams smallParams(const std::string& yaml) { return loadSoilParams(Config::fromString(yaml, "test.yaml").root()); }
 
 void expectConfigError(const std::string& yaml, const std::string& fragment) {
@@ -62,11 +66,11 @@ TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
 
 TEST(SoilModel, SleepersOutsideTheBoxAreDropped) {
   const SoilParams p = smallParams(railvib::soil::testing::smallScenario());
-  SoilModel model(p, {0.0, 0.72});
+  SoilModel model(p, {0.0, 0.72}, kLoadRateHz);
   ASSERT_EQ(model.sleeperCount(), 2u);
   EXPECT_TRUE(model.droppedSleepers().empty());
   // Dropped: a sleeper outside the box.
-  SoilModel model2(p, {0.0, 10.0});
+  SoilModel model2(p, {0.0, 10.0}, kLoadRateHz);
   EXPECT_EQ(model2.droppedSleepers().size(), 1u);
 }
 
@@ -82,7 +86,7 @@ TEST(SoilModel, StreamingInBlocksEqualsOneBlockAndChecksContinuity) {
     }
   }
   auto runModel = [&](size_t block) {
-    SoilModel m(p, xs);
+    SoilModel m(p, xs, kLoadRateHz);
     ReceiverBlock rb;
     std::vector<double> all;
     std::vector<SurfaceSnapshot> snaps;
@@ -129,7 +133,7 @@ TEST(SoilModel, DownwardLoadMovesTheSurfaceDown) {
       "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
       "[{name: s0, x_m: 0.0, y_m: 0.0}]"));
   p.receivers.resize(1);
-  SoilModel m(p, {0.0});
+  SoilModel m(p, {0.0}, kLoadRateHz);
   std::vector<double> loads(101);
   for (size_t f = 0; f < loads.size(); ++f) loads[f] = 1e4 * std::min(1.0, f / 40.0);
   m.pushLoads(0, loads);
@@ -150,9 +154,9 @@ TEST(SoilModel, FinishRunEndsOneStepPastTheLastLoadWhateverTheRounding) {
       "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
       "[{name: s0, x_m: 0.0, y_m: 0.0}]"));
   p.receivers.resize(1);
-  const double load_rate_hz = 2000.0;
+  const double load_rate_hz = kLoadRateHz;
   for (const double t_end : {0.0137, 0.0180, 0.0235, 0.0301}) {
-    SoilModel m(p, {0.0});
+    SoilModel m(p, {0.0}, kLoadRateHz);
     const size_t frames = static_cast<size_t>(std::llround(t_end * load_rate_hz)) + 1;
     std::vector<double> loads(frames);
     for (size_t f = 0; f < frames; ++f) loads[f] = 1e4 * std::sin(200.0 * f / load_rate_hz);
@@ -181,7 +185,7 @@ TEST(SoilModel, SectionSnapshotsAgreeWithTheSurfaceAndAreSymmetric) {
   p.section_x_m = 0.0;
   p.receivers.clear();
   const std::vector<double> xs = {0.0};
-  SoilModel m(p, xs);
+  SoilModel m(p, xs, 2000.0);
   std::vector<double> loads(201);
   for (size_t f = 0; f < loads.size(); ++f) loads[f] = 1e4 * std::exp(-std::pow((f / 2000.0 - 0.02) / 0.004, 2));
   m.pushLoads(0, loads.data(), loads.size());
@@ -211,4 +215,31 @@ TEST(SoilModel, SectionSnapshotsAgreeWithTheSurfaceAndAreSymmetric) {
   }
   EXPECT_GT(peak, 1e-6);
   EXPECT_LT(asym, 1e-4 * peak);  // the box is symmetric about y = 0 (y in [-4, 4])
+}
+
+// A value shared with other domains is read by its own loader only: a bad one is refused by the soil
+// with exactly the message (key, value, the one range, file) of that loader.
+TEST(SoilParams, SharedValuesAreRefusedByTheirOneLoader) {
+  const std::string haren = std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml";
+  auto message = [&](const std::string& override_value, const std::function<void(const railvib::ConfigNode&)>& load) {
+    try {
+      load(Config::load(haren, {override_value}).root());
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const auto soil = [](const railvib::ConfigNode& root) { loadSoilParams(root); };
+  const auto site = [](const railvib::ConfigNode& root) { railvib::loadSiteLayout(root); };
+  const auto track = [](const railvib::ConfigNode& root) { railvib::loadTrackLayout(root); };
+  const std::string gauge = message("site.rail_gauge_m=5.0", site);
+  EXPECT_NE(gauge.find("site.rail_gauge_m = 5"), std::string::npos) << gauge;
+  EXPECT_NE(gauge.find("(0.5, 2)"), std::string::npos) << gauge;
+  EXPECT_EQ(message("site.rail_gauge_m=5.0", soil), gauge);
+  const std::string spacing = message("track.sleeper.spacing_m=6.0", track);
+  EXPECT_NE(spacing.find("(0, 5]"), std::string::npos) << spacing;
+  EXPECT_EQ(message("track.sleeper.spacing_m=6.0", soil), spacing);
+  const std::string extent = message("track.extent.x_max_m=-60.0", track);
+  EXPECT_NE(extent.find("greater than x_min_m"), std::string::npos) << extent;
+  EXPECT_EQ(message("track.extent.x_max_m=-60.0", soil), extent);
 }

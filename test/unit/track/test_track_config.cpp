@@ -43,7 +43,7 @@ TEST(TrackConfig, HarenLoads) {
   EXPECT_EQ(w.foundation, FoundationModel::Winkler);
   EXPECT_NEAR(w.winkler.stiffness_n_m, 32.0e6 / 0.26, 1.0);
   // The scenario file (with includes) loads too.
-  const TrackParams s = loadTrackParams(Config::load(test::configPath("haren.yaml")).section("track"));
+  const TrackParams s = loadTrackParams(Config::load(test::configPath("haren.yaml")).root());
   EXPECT_EQ(s.foundation, FoundationModel::Clm);
   const TrackModel model(p);
   EXPECT_GE(model.sleeperCount(), TrackParams::kMinSleepers);
@@ -72,7 +72,7 @@ TEST_P(TrackConfigBad, RefusedWithClearMessage) {
     out << text;
   }
   try {
-    const TrackParams p = loadTrackParams(Config::load(file).section("track"));
+    const TrackParams p = loadTrackParams(Config::load(file).root());
     (void)p;
     FAIL() << c.name << ": accepted";
   } catch (const ConfigError& e) {

@@ -24,7 +24,7 @@ TEST(TrackReceptance, ConvergesToContinuousBeamOnTwoLayerSupport) {
   const double fpp = pinnedPinnedFrequency(p);
   EXPECT_NEAR(fpp, 842.0, 2.0);
   const std::vector<double> f = logGrid(5.0, 0.5 * fpp, 60);
-  for (double x : {0.0, 0.5 * p.sleeper_spacing_m}) {
+  for (double x : {0.0, 0.5 * p.layout.spacing_m}) {
     const auto r = model.receptance(x, f);
     double worst = 0.0, worst_f = 0.0;
     for (size_t i = 0; i < f.size(); ++i) {
@@ -44,7 +44,7 @@ TEST(TrackReceptance, ConvergesToContinuousBeamOnTwoLayerSupport) {
   EXPECT_LT(continuousBeamReceptance(p, 100.0).imag(), 0.0);
   // Above f_pp the discrete track departs from the continuous one (pinned-pinned
   // resonance/antiresonance): the comparison is discriminating.
-  const double above = std::abs(model.receptance(0.5 * p.sleeper_spacing_m, fpp * 1.03)) /
+  const double above = std::abs(model.receptance(0.5 * p.layout.spacing_m, fpp * 1.03)) /
                        std::abs(continuousBeamReceptance(p, fpp * 1.03));
   EXPECT_GT(above, 1.2);
 }
@@ -56,7 +56,7 @@ TEST(TrackStatics, PointLoadMatchesWinklerBeam) {
     const TrackModel model(p);
     const double w_ref =
         winklerBeamStaticDeflection(p.rail_bending_stiffness_n_m2, smearedStaticSupportStiffness(p), F);
-    for (double x : {0.0, 0.5 * p.sleeper_spacing_m, 0.25 * p.sleeper_spacing_m}) {
+    for (double x : {0.0, 0.5 * p.layout.spacing_m, 0.25 * p.layout.spacing_m}) {
       const Eigen::VectorXd u = model.staticDeflection({{x, F}});
       const double w = model.railPoint(x).displacement(u);
       std::cout << "static " << model_name << " x = " << x << ": w = " << w << " m, Winkler beam " << w_ref

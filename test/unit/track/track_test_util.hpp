@@ -16,7 +16,7 @@ inline std::string configPath(const std::string& name) { return std::string(RAIL
 
 /// The Haren track parameters as configured (config/track_haren.yaml), with overrides.
 inline TrackParams haren(const std::vector<std::string>& overrides = {}) {
-  return loadTrackParams(Config::load(configPath("track_haren.yaml"), overrides).section("track"));
+  return loadTrackParams(Config::load(configPath("track_haren.yaml"), overrides).root());
 }
 
 }  // namespace railvib::track::test

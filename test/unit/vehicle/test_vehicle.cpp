@@ -25,8 +25,8 @@ struct Scenario {
       : cfg(haren(overrides)),
         model(loadVehicleParams(cfg.root())),
         pp(loadPassageParams(cfg.root())),
-        tp(track::loadTrackParams(cfg.section("track"))),
-        unevenness(loadUnevennessParams(cfg.root()), tp.x_min_m, tp.x_max_m) {}
+        tp(track::loadTrackParams(cfg.root())),
+        unevenness(loadUnevennessParams(cfg.root()), tp.layout.x_min_m, tp.layout.x_max_m) {}
   std::unique_ptr<RailSupport> rail(bool flexible) const {
     if (flexible) return std::make_unique<FlexibleRail>(tp, pp.time_step_s);
     return std::make_unique<RigidRail>();
