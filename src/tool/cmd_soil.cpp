@@ -392,14 +392,7 @@ int soilRun(const std::vector<std::string>& args) {
 
   const auto wall0 = std::chrono::steady_clock::now();
   // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
-  std::vector<RigidBodySpec> bodies;
-  if (cfg.root().has("building")) {
-    const building::BuildingModel house(building::loadBuildingParams(cfg.root()));
-    if (house.params().coupling == building::SoilCoupling::TwoWay) {
-      bodies.push_back(coupling::houseFoundation(cfg.root(), house, params).body);
-    }
-  }
-  SoilModel model(params, sleeper_x, rate, bodies);
+  SoilModel model(params, sleeper_x, rate, coupling::attachedBodies(cfg.root(), params));
   nlohmann::json summary = model.summary();
   std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
             << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
