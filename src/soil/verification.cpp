@@ -40,6 +40,7 @@ ColumnRun columnRun(const ColumnSpec& s, bool pulse, double t_end) {
   o.absorbing.bottom = true;
   o.lateral_rollers = true;
   o.precision = s.precision;
+  o.kernel = s.kernel;
   o.threads = 1;
   Solver solver(std::move(mesh), o);
   const auto& m = solver.mesh();

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "railvib/soil/kernel.hpp"
 #include "railvib/soil/mesh.hpp"
 #include "railvib/soil/solver.hpp"
 
@@ -22,6 +23,7 @@ struct ColumnSpec {
   double rise_s = 0.01;
   double receiver_depth_m = 10.0;
   Precision precision = Precision::Float;
+  KernelKind kernel = KernelKind::Element;
 };
 
 struct ColumnResult {
