@@ -216,8 +216,10 @@ inline __attribute__((always_inline)) void runLine(const Line& line, const Table
   const Real* t = tab.coef + static_cast<size_t>(line.table) * kTableSize;
   const ptrdiff_t* off = tab.offsets + static_cast<size_t>(line.table) * kOffsets;
   constexpr auto seq = std::make_index_sequence<kOffsets>{};
+  // Lines along y (x faces) are Full; the rare fallback below uses the Full code too: the pattern's zero
+  // coefficients are zeros of its table, and one strided instance per precision keeps the code small.
   if (line.stride != 1) {
-    stridedLine<Real, P>(t, off, w, f, line.first, line.stride, line.count, seq);
+    stridedLine<Real, Pattern::Full>(t, off, w, f, line.first, line.stride, line.count, seq);
     return;
   }
   constexpr size_t kBlock = L::kBlock;
@@ -234,7 +236,7 @@ inline __attribute__((always_inline)) void runLine(const Line& line, const Table
   } else if (n + kBlock + max_off <= node_count) {
     contiguousBlock<L, P>(t, off, w, f, n, len, seq);
   } else {
-    stridedLine<Real, P>(t, off, w, f, n, 1, len, seq);
+    stridedLine<Real, Pattern::Full>(t, off, w, f, n, 1, len, seq);
   }
 }
 
