@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 namespace railvib::soil {
 
@@ -172,6 +173,12 @@ SoilParams loadSoilParams(const ConfigNode& root) {
     m = buildMesh(p.profile, p.mesh);
   } catch (const std::invalid_argument& e) {
     mesh.fail("f_max_hz", e.what());
+  }
+  // The boundary on this mesh (e.g. a PML must be at least one element thick).
+  try {
+    boundary->kernelElements(BoundaryContext{&m, nullptr, p.solver.absorbing});
+  } catch (const std::invalid_argument& e) {
+    b.section(layer_key).fail("thickness_m", e.what());
   }
   const double bytes = static_cast<double>(solverMemoryBytes(m, p.solver.precision)) +
                        static_cast<double>(m.nodeCount()) * sizeof(double) +

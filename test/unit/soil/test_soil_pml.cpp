@@ -1,0 +1,194 @@
+// Perfectly matched layer (docs/soil.md, "Perfectly matched layer"; src/soil/boundary_pml.cpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "railvib/common/config.hpp"
+#include "railvib/soil/boundary.hpp"
+#include "railvib/soil/kernel.hpp"
+#include "railvib/soil/lamb.hpp"
+#include "railvib/soil/soil_model.hpp"
+#include "railvib/soil/solver.hpp"
+#include "soil_test_util.hpp"
+
+using namespace railvib::soil;
+
+namespace {
+
+// Haren's top layer, a stiffer layer and the nu = 0.48 half-space (Vp / Vs = 5).
+const Material kTop{61.0e6, 1876.0, 0.13}, kMid{287.0e6, 1876.0, 0.13}, kHalfSpace{465.0e6, 1992.0, 0.48};
+
+StructuredMesh layeredBox(size_t nx, size_t ny, double h, const std::vector<std::pair<int, Material>>& levels) {
+  std::vector<double> z{0.0};
+  std::vector<Material> mats;
+  for (const auto& [n, mat] : levels) {
+    for (int k = 0; k < n; ++k) {
+      z.push_back(z.back() + h);
+      mats.push_back(mat);
+    }
+  }
+  return buildUniformMesh(nx, ny, h, h, z, mats, 0.0, 0.0);
+}
+
+struct History {
+  std::vector<double> u, v;  // all nodes, 3 components, at the end
+  double peak_v = 0.0;
+};
+
+// A vertical Hann pulse on a surface patch off the centre, then free motion.
+History runPulse(Solver& s, int steps) {
+  const StructuredMesh& m = s.mesh();
+  ForceChannel ch;
+  for (size_t j = m.ny / 2 - 1; j <= m.ny / 2 + 1; ++j) {
+    for (size_t i = m.nx / 3; i <= m.nx / 3 + 2; ++i) {
+      ch.nodes.push_back(m.node(i, j, 0));
+      ch.components.push_back(2);
+      ch.weights.push_back(1.0 / 9.0);
+    }
+  }
+  s.addForceChannel(ch);
+  History h;
+  const double pulse_s = 0.02;
+  for (int n = 0; n < steps; ++n) {
+    const double t = s.time();
+    s.setChannelValues({t < pulse_s ? 1e5 * (0.5 - 0.5 * std::cos(2.0 * M_PI * t / pulse_s)) : 0.0});
+    s.step();
+  }
+  for (size_t i = 0; i < m.nodeCount(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      h.u.push_back(s.displacement(i, c));
+      h.v.push_back(s.velocity(i, c));
+      h.peak_v = std::max(h.peak_v, std::abs(h.v.back()));
+    }
+  }
+  return h;
+}
+
+double maxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+
+double maxAbs(const std::vector<double>& a) {
+  double d = 0.0;
+  for (double x : a) d = std::max(d, std::abs(x));
+  return d;
+}
+
+PmlSpec undampedPml(double thickness_m, bool outer_dashpots) {
+  PmlSpec p;
+  p.thickness_m = thickness_m;
+  p.reflection_coefficient = 1.0;  // d0 = 0
+  p.alpha_1_s = 30.0;              // irrelevant without d
+  p.perpendicular_ratio = 0.2;
+  p.outer_dashpots = outer_dashpots;
+  return p;
+}
+
+}  // namespace
+
+// With d = 0 the layer's split formulation must be the elastic operator itself: the run equals the same box
+// integrated by the stiffness kernel alone, up to the round-off of a different order of the sums.
+TEST(SoilPml, UndampedLayerReproducesTheKernel) {
+  const StructuredMesh mesh = layeredBox(20, 16, 0.5, {{4, kTop}, {4, kMid}, {6, kHalfSpace}});
+  const int steps = 400;
+  for (Precision precision : {Precision::Double, Precision::Float}) {
+    for (bool outer : {true, false}) {
+      SolverOptions plain;
+      plain.precision = precision;
+      plain.rayleigh_beta_s = 4e-4;  // the layer must stretch w = u + beta vf, as the kernel acts on it
+      if (!outer) plain.absorbing = {false, false, false, false, false};  // no dashpots at all
+      SolverOptions pml = plain;
+      pml.absorbing = AbsorbingFaces{};
+      pml.boundary.method = BoundaryMethod::Pml;
+      pml.boundary.pml = undampedPml(1.5, outer);
+      Solver a(mesh, plain), b(mesh, pml);
+      ASSERT_EQ(a.dt(), b.dt());
+      ASSERT_LT(b.kernelElements().count(), mesh.elementCount() / 2);  // the layer really takes elements
+      const History ha = runPulse(a, steps), hb = runPulse(b, steps);
+      // Round-off: a unit roundoff per step of the peak (cf. SoilThreads.OneAndTwoThreadsAgreeWithinRoundOff).
+      const double u_round = precision == Precision::Double ? std::ldexp(1.0, -52) : std::ldexp(1.0, -24);
+      const double dv = maxAbsDiff(ha.v, hb.v) / ha.peak_v, du = maxAbsDiff(ha.u, hb.u) / maxAbs(ha.u);
+      std::printf("%s, %s: max |dv| / peak %.2e, max |du| / peak %.2e (bound %.2e)\n",
+                  precision == Precision::Double ? "double" : "float", outer ? "outer dashpots" : "free faces", dv, du,
+                  steps * u_round);
+      EXPECT_GT(ha.peak_v, 0.0);
+      EXPECT_LT(dv, steps * u_round);
+      EXPECT_LT(du, steps * u_round);
+    }
+  }
+}
+
+namespace {
+
+// The small test scenario (+-4 m box, 4 m deep, 0.75 m elements, receiver s2 at y = 2 m) with a PML.
+std::string pmlScenario(const std::string& pml, const std::string& outside = "drop") {
+  std::string y = railvib::soil::testing::smallScenario();
+  const std::string bnd = "boundary: {method: dashpots}";
+  y.replace(y.find(bnd), bnd.size(), "boundary: {method: pml, pml: " + pml + "}");
+  const std::string drop = "outside_mesh: drop";
+  y.replace(y.find(drop), drop.size(), "outside_mesh: " + outside);
+  return y;
+}
+
+SoilParams paramsOf(const std::string& yaml) {
+  return loadSoilParams(railvib::Config::fromString(yaml, "test.yaml").root());
+}
+
+void expectConfigError(const std::string& yaml, const std::string& fragment) {
+  try {
+    paramsOf(yaml);
+    ADD_FAILURE() << "no ConfigError for " << fragment;
+  } catch (const railvib::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+// Every PML parameter is range-checked with its key path; a layer that fills the box, is thinner than an
+// element or covers a receiver is refused before anything is allocated.
+TEST(SoilPml, BadConfigIsRefused) {
+  EXPECT_NO_THROW(paramsOf(pmlScenario("{thickness_m: 1.5}")));
+  expectConfigError(pmlScenario("{}"), "soil.boundary.pml.thickness_m");
+  expectConfigError(pmlScenario("{thickness_m: 0.0}"), "soil.boundary.pml.thickness_m");
+  expectConfigError(pmlScenario("{thickness_m: -1.0}"), "soil.boundary.pml.thickness_m");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, reflection_coefficient: 0.0}"), "reflection_coefficient");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, reflection_coefficient: 1.0}"), "reflection_coefficient");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, reflection_coefficient: 2.0}"), "reflection_coefficient");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, exponent: 0.0}"), "exponent");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, max_kappa: 0.5}"), "max_kappa");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, alpha_1_s: -1.0}"), "alpha_1_s");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, perpendicular_ratio: 1.5}"), "perpendicular_ratio");
+  expectConfigError(pmlScenario("{thickness_m: 1.5, bottom: maybe}"), "bottom");
+  // Above the box: the +-4 m box, 4 m deep.
+  expectConfigError(pmlScenario("{thickness_m: 4.0}"), "fill the soil box");
+  expectConfigError(pmlScenario("{thickness_m: 40.0}"), "fill the soil box");
+  // Thinner than one element (0.75 m here).
+  expectConfigError(pmlScenario("{thickness_m: 0.5}"), "less than one element");
+  // Receiver s2 (y = 2 m) is 2 m from the y_max face.
+  expectConfigError(pmlScenario("{thickness_m: 3.0}"), "inside the 3 m absorbing zone");
+}
+
+// Sleepers whose footprint reaches into the PML (|x| > 4 - 1.5 m here) are treated as outside the box:
+// dropped and counted with outside_mesh: drop, refused with outside_mesh: error.
+TEST(SoilPml, SleepersInTheLayerAreDroppedOrRefused) {
+  const SoilParams p = paramsOf(pmlScenario("{thickness_m: 1.5}"));
+  SoilModel model(p, {-3.6, -2.16, 0.0, 2.16, 3.6, 10.0});
+  ASSERT_EQ(model.droppedSleepers().size(), 3u);
+  EXPECT_EQ(model.droppedSleepers()[0], 0u);
+  EXPECT_EQ(model.droppedSleepers()[1], 4u);
+  EXPECT_EQ(model.summary()["sleepers_dropped_in_boundary_zone"], 2u);
+  const SoilParams strict = paramsOf(pmlScenario("{thickness_m: 1.5}", "error"));
+  EXPECT_NO_THROW(SoilModel(strict, {-2.16, 0.0, 2.16}));
+  try {
+    SoilModel refused(strict, {0.0, 3.6});
+    ADD_FAILURE() << "no ConfigError for a sleeper in the PML";
+  } catch (const railvib::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("pml zone"), std::string::npos) << e.what();
+  }
+}
