@@ -228,7 +228,8 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
   return r;
 }
 
-ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps) {
+ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps,
+                               const BoundarySpec& boundary) {
   const Material mat{61.0e6, 1876.0, 0.13};
   const double h = 0.3;
   std::vector<double> z(nz + 1);
@@ -237,6 +238,7 @@ ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Pre
   o.precision = precision;
   o.threads = threads;
   o.rayleigh_beta_s = 4e-4;
+  o.boundary = boundary;
   Solver s(buildUniformMesh(nx, ny, h, h, z, std::vector<Material>(nz, mat)), o);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> dist(-1e-4, 1e-4);
@@ -254,6 +256,7 @@ ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Pre
   const double cpu_s = cpu() - c0;
   ThroughputResult r;
   r.elements = s.mesh().elementCount();
+  r.boundary_elements = r.elements - s.kernelElements().count();
   r.threads = threads;
   r.seconds_per_step = el / steps;
   r.element_updates_per_s = static_cast<double>(r.elements) * steps / el;

@@ -50,6 +50,15 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("lamb-h", "lamb: element size (m)", "");
   p.option("csv", "lamb: write FE and analytic curves to this CSV", "");
   p.option("box", "reflection-layered: half width and depth of the box of interest (m), e.g. 16,12", "16,12");
+  // PML cases of `reflection` and `reflection-layered`: the product of these lists, when --pml-thickness is given.
+  p.option("pml-thickness", "reflection*: PML thicknesses (m), comma-separated (none if empty)", "");
+  p.option("pml-reflection", "reflection*: PML target reflection coefficients R, comma-separated", "1e-3");
+  p.option("pml-exponent", "reflection*: PML profile exponents n, comma-separated", "2");
+  p.option("pml-kappa", "reflection*: PML kappa at the outer face, comma-separated", "1");
+  p.option("pml-alpha", "reflection*: PML CFS frequency shift alpha (1/s), comma-separated", "0");
+  p.option("pml-ratio", "reflection*: M-PML ratio p, comma-separated", "0");
+  p.option("pml-bottom", "reflection*: 1 = PML along the bottom too, 0 = sides only", "1");
+  p.option("pml-outer-dashpots", "reflection*: 1 = dashpots at the PML's outer faces, 0 = free faces", "1");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
   addConfigOptions(p);  // reflection-layered: soil profile, mesh resolution, damping and layer from the config
   std::vector<std::string> rest = args;
@@ -74,6 +83,47 @@ int soilBench(const std::vector<std::string>& args) {
     }
     if (v.empty()) throw ArgError("soil-bench: --" + key + " needs at least one value");
     return v;
+  };
+  auto pmlCases = [&]() {
+    std::vector<ReflectionCase> cases;
+    if (p.get("pml-thickness").empty()) return cases;
+    for (double thickness : list("pml-thickness")) {
+      for (double r : list("pml-reflection")) {
+        for (double n : list("pml-exponent")) {
+          for (double kappa : list("pml-kappa")) {
+            for (double alpha : list("pml-alpha")) {
+              for (double ratio : list("pml-ratio")) {
+                PmlSpec s;
+                s.thickness_m = thickness;
+                s.reflection_coefficient = r;
+                s.exponent = n;
+                s.max_kappa = kappa;
+                s.alpha_1_s = alpha;
+                s.perpendicular_ratio = ratio;
+                s.bottom = p.getInt("pml-bottom") != 0;
+                s.outer_dashpots = p.getInt("pml-outer-dashpots") != 0;
+                cases.push_back(ReflectionCase::pml(s));
+              }
+            }
+          }
+        }
+      }
+    }
+    return cases;
+  };
+  auto caseJson = [](const ReflectionCase& c) {
+    return json{
+        {"layer_m", c.layer_m}, {"layer_bottom", c.bottom}, {"boundary", makeSoilBoundary(c.boundary)->summary()}};
+  };
+  auto bandsJson = [](const ReflectionRow& x) {
+    return json{{"peak", x.peak},
+                {"band_10_50_hz", x.band_10_50},
+                {"band_10_20_hz", x.band_10_20},
+                {"band_21_30_hz", x.band_21_30},
+                {"band_31_40_hz", x.band_31_40},
+                {"band_41_50_hz", x.band_41_50},
+                {"band_21_35_hz", x.band_20_35},
+                {"band_36_50_hz", x.band_35_50}};
   };
   json out;
   out["case"] = which;
@@ -131,6 +181,22 @@ int soilBench(const std::vector<std::string>& args) {
       out[pr == Precision::Float ? "float" : "double"] = jp;
     }
     out["elements"] = nx * ny * nz;
+    // With --pml-thickness: the same mesh with the (first) PML case, in alternating rounds, 2 threads.
+    if (const std::vector<ReflectionCase> pml = pmlCases(); !pml.empty()) {
+      std::vector<double> ratio, cpu_ratio;
+      size_t layer_elements = 0;
+      for (int rep = 0; rep < repeat; ++rep) {
+        const ThroughputResult a = runThroughput(nx, ny, nz, 2, precisions.front(), steps);
+        const ThroughputResult b = runThroughput(nx, ny, nz, 2, precisions.front(), steps, pml.front().boundary);
+        ratio.push_back(b.seconds_per_step / a.seconds_per_step);
+        cpu_ratio.push_back(a.element_updates_per_cpu_s / b.element_updates_per_cpu_s);
+        layer_elements = b.boundary_elements;
+      }
+      out["pml"] = {{"boundary", caseJson(pml.front())},
+                    {"pml_elements", layer_elements},
+                    {"step_time_ratio_pml_over_dashpots", median(ratio)},
+                    {"cpu_time_ratio_pml_over_dashpots", median(cpu_ratio)}};
+    }
     out["note"] =
         "medians over repeats; the machine is shared, wall-clock figures are noisy; per_cpu_second = element "
         "updates per CPU second actually given to the process (user + sys over all threads)";
@@ -138,23 +204,20 @@ int soilBench(const std::vector<std::string>& args) {
     std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
     for (double layer : list("layer")) {
       for (double n : list("exponent")) {
-        for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+        for (double alpha : list("alpha")) {
+          cases.push_back(ReflectionCase::gradedLayer(layer, alpha, n, p.getInt("layer-bottom") != 0));
+        }
       }
     }
+    for (const ReflectionCase& c : pmlCases()) cases.push_back(c);
     const ReflectionResult r = runBoundaryReflection(p.getDouble("small-box"), cases);
     json rows = json::array();
     for (const ReflectionRow& row : r.rows) {
-      rows.push_back({{"layer_m", row.layer.layer_m},
-                      {"alpha_1_s", row.layer.alpha_1_s},
-                      {"exponent", row.layer.exponent},
-                      {"layer_bottom", row.layer.bottom},
-                      {"peak", row.peak},
-                      {"band_10_50_hz", row.band_10_50},
-                      {"band_10_20_hz", row.band_10_20},
-                      {"band_21_35_hz", row.band_20_35},
-                      {"band_36_50_hz", row.band_35_50},
-                      {"elements", row.elements},
-                      {"dt_s", row.dt_s}});
+      json j = caseJson(row.absorber);
+      j.update(bandsJson(row));
+      j["elements"] = row.elements;
+      j["dt_s"] = row.dt_s;
+      rows.push_back(j);
     }
     out["r_m"] = r.r_m;
     out["window_s"] = r.window_s;
@@ -186,36 +249,36 @@ int soilBench(const std::vector<std::string>& args) {
     const SolverOptions& so = sp.solver;
     if (so.boundary.method == BoundaryMethod::GradedLayer) {
       const GradedLayerSpec& g = so.boundary.graded_layer;
-      const ReflectionCase configured{g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom};
-      cases.push_back(configured);
-      cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
+      cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom));
+      cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, 0.0, g.exponent, g.bottom));
+    } else if (so.boundary.method == BoundaryMethod::Pml) {
+      const PmlSpec& g = so.boundary.pml;
+      cases.push_back(ReflectionCase::pml(g));
+      cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, 0.0, 1.0, g.bottom));
     }
     if (p.isSet("layer") || p.isSet("alpha") || p.isSet("exponent")) {
       for (double layer : list("layer")) {
         for (double n : list("exponent")) {
-          for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+          for (double alpha : list("alpha")) {
+            cases.push_back(ReflectionCase::gradedLayer(layer, alpha, n, p.getInt("layer-bottom") != 0));
+          }
         }
       }
     }
+    for (const ReflectionCase& c : pmlCases()) cases.push_back(c);
     const LayeredReflectionResult r = runLayeredReflection(spec, cases);
     json rows = json::array();
     for (const LayeredReflectionRow& row : r.rows) {
       json st = json::array();
       for (size_t k = 0; k < row.stations.size(); ++k) {
-        const ReflectionRow& x = row.stations[k];
-        st.push_back({{"r_m", spec.distances_m[k]},
-                      {"peak", x.peak},
-                      {"band_10_50_hz", x.band_10_50},
-                      {"band_10_20_hz", x.band_10_20},
-                      {"band_21_35_hz", x.band_20_35},
-                      {"band_36_50_hz", x.band_35_50}});
+        json x = bandsJson(row.stations[k]);
+        x["r_m"] = spec.distances_m[k];
+        st.push_back(x);
       }
-      rows.push_back({{"layer_m", row.layer.layer_m},
-                      {"alpha_1_s", row.layer.alpha_1_s},
-                      {"exponent", row.layer.exponent},
-                      {"layer_bottom", row.layer.bottom},
-                      {"elements", row.elements},
-                      {"stations", st}});
+      json j = caseJson(row.absorber);
+      j["elements"] = row.elements;
+      j["stations"] = st;
+      rows.push_back(j);
     }
     out["h_m"] = r.h_m;
     out["dt_s"] = r.dt_s;
@@ -227,8 +290,8 @@ int soilBench(const std::vector<std::string>& args) {
     out["runs"] = rows;
     out["note"] =
         "config's soil profile and mesh resolution, quarter model, Hann pulse point load; runs: box of interest with "
-        "dashpots only, then (if configured) with the config's layer outside it and the same enlarged box without "
-        "layer, then the --layer/--alpha/--exponent product if given; figures as in `reflection`";
+        "dashpots only, then (if configured) with the config's layer or PML outside it and the same enlarged box "
+        "without it, then the --layer/--alpha/--exponent and --pml-* products if given; figures as in `reflection`";
   } else if (which == "lamb") {
     LambSpec spec;
     spec.precision = precisions.front();

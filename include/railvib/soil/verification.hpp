@@ -52,12 +52,14 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
 
 struct ThroughputResult {
   size_t elements = 0;
+  size_t boundary_elements = 0;  // integrated by the boundary's unit (a PML), not the kernel
   int threads = 0;
   double element_updates_per_s = 0.0;      // wall clock
   double element_updates_per_cpu_s = 0.0;  // per CPU second of the process (user + sys, all threads)
   double seconds_per_step = 0.0;
 };
-/// Time `steps` steps of an nx x ny x nz homogeneous box with Lysmer faces.
-ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps);
+/// Time `steps` steps of an nx x ny x nz homogeneous box with Lysmer faces (or the given boundary).
+ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps,
+                               const BoundarySpec& boundary = BoundarySpec{});
 
 }  // namespace railvib::soil
