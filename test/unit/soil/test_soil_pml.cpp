@@ -229,7 +229,8 @@ TEST(SoilPml, StableFor20SecondsWithoutEnergyGrowth) {
     s.setChannelValues({t < pulse_s ? 1e5 * (0.5 - 0.5 * std::cos(2.0 * M_PI * t / pulse_s)) : 0.0});
     s.step();
     if (s.time() > pulse_s) {
-      if (s.stepCount() % 20 == 0) e_max = std::max(e_max, energy());
+      // The peak is right after the pulse, while its work is still all in the box.
+      if (s.time() < 0.5 && s.stepCount() % 10 == 0) e_max = std::max(e_max, energy());
       if (s.stepCount() % every == 0) samples.push_back(energy());
     }
   }
