@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include "railvib/common/names.hpp"
 
@@ -54,7 +55,7 @@ void readMesh(const ConfigNode& mesh, SoilParams& p) {
   p.solver.precision =
       mesh.choice("precision", {"float", "double"}, "float") == "float" ? Precision::Float : Precision::Double;
   p.solver.threads = static_cast<int>(mesh.integer("threads", 0, 256, 0));
-  p.solver.kernel = kernelFromName(mesh.choice("kernel", {"element"}, "element"));
+  p.solver.kernel = kernelFromName(mesh.choice("kernel", {"element", "stencil"}, "element"));
   p.max_memory_gb = mesh.number("max_memory_gb", Range::open(0.0, 1e4), 12.0);
 }
 
@@ -155,13 +156,20 @@ void checkReceivers(const ConfigNode& soil, const SoilParams& p) {
   }
 }
 
-// The mesh must fit in soil.mesh.max_memory_gb: checked before anything is allocated.
-void checkMemory(const ConfigNode& mesh, const SoilParams& p) {
+// The boundary must fit the mesh, and the mesh soil.mesh.max_memory_gb: checked before anything is allocated.
+void checkMemory(const ConfigNode& soil, const SoilParams& p) {
+  const ConfigNode mesh = soil.section("mesh");
   StructuredMesh m;
   try {
     m = buildMesh(p.profile, p.mesh);
   } catch (const std::invalid_argument& e) {
     mesh.fail("f_max_hz", e.what());
+  }
+  // The boundary on this mesh (e.g. a PML must be at least one element thick).
+  try {
+    makeSoilBoundary(p.solver.boundary)->kernelElements(BoundaryContext{&m, nullptr, p.solver.absorbing});
+  } catch (const std::invalid_argument& e) {
+    soil.section("boundary").section(absorbingZone(p.solver).key).fail("thickness_m", e.what());
   }
   const double bytes = static_cast<double>(solverMemoryBytes(m, p.solver.precision)) +
                        static_cast<double>(m.nodeCount()) * sizeof(double) +
@@ -187,7 +195,7 @@ SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
   p.track = loadTrackLayout(root);
   collectReceivers(root, house, p);
   checkReceivers(soil, p);
-  checkMemory(soil.section("mesh"), p);
+  checkMemory(soil, p);
   return p;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <vector>
@@ -26,11 +27,6 @@ namespace {
 
 using nlohmann::json;
 using namespace railvib::soil;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 // ---------------------------------------------------------------- soil-bench cases
 // Each case reads its options from the parsed arguments and fills the JSON summary. To add a case:
@@ -55,9 +51,39 @@ struct BenchArgs {
   void addLayerCases(std::vector<ReflectionCase>& cases) const {
     for (double layer : list("layer")) {
       for (double n : list("exponent")) {
-        for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+        for (double alpha : list("alpha")) {
+          cases.push_back(ReflectionCase::gradedLayer(layer, alpha, n, p.getInt("layer-bottom") != 0));
+        }
       }
     }
+  }
+  /// The product of the --pml-* lists (none when --pml-thickness is empty).
+  std::vector<ReflectionCase> pmlCases() const {
+    std::vector<ReflectionCase> cases;
+    if (p.get("pml-thickness").empty()) return cases;
+    for (double thickness : list("pml-thickness")) {
+      for (double r : list("pml-reflection")) {
+        for (double n : list("pml-exponent")) {
+          for (double kappa : list("pml-kappa")) {
+            for (double alpha : list("pml-alpha")) {
+              for (double ratio : list("pml-ratio")) {
+                PmlSpec s;
+                s.thickness_m = thickness;
+                s.reflection_coefficient = r;
+                s.exponent = n;
+                s.max_kappa = kappa;
+                s.alpha_1_s = alpha;
+                s.perpendicular_ratio = ratio;
+                s.bottom = p.getInt("pml-bottom") != 0;
+                s.outer_dashpots = p.getInt("pml-outer-dashpots") != 0;
+                cases.push_back(ReflectionCase::pml(s));
+              }
+            }
+          }
+        }
+      }
+    }
+    return cases;
   }
 };
 
@@ -68,15 +94,16 @@ json reflectionFigures(const ReflectionRow& row) {
   return {{"peak", row.peak},
           {"band_10_50_hz", row.band_10_50},
           {"band_10_20_hz", row.band_10_20},
+          {"band_21_30_hz", row.band_21_30},
+          {"band_31_40_hz", row.band_31_40},
+          {"band_41_50_hz", row.band_41_50},
           {"band_21_35_hz", row.band_20_35},
           {"band_36_50_hz", row.band_35_50}};
 }
 
-json layerFields(const ReflectionCase& layer) {
-  return {{"layer_m", layer.layer_m},
-          {"alpha_1_s", layer.alpha_1_s},
-          {"exponent", layer.exponent},
-          {"layer_bottom", layer.bottom}};
+// The absorber of a reflection run: the added strip and the boundary's own summary.
+json absorberFields(const ReflectionCase& c) {
+  return {{"layer_m", c.layer_m}, {"layer_bottom", c.bottom}, {"boundary", makeSoilBoundary(c.boundary)->summary()}};
 }
 
 void benchColumn(const BenchArgs& a, json& out) {
@@ -114,43 +141,131 @@ void benchDamping(const BenchArgs& a, json& out) {
 }
 
 void benchThroughput(const BenchArgs& a, json& out) {
-  const size_t nx = static_cast<size_t>(a.p.getInt("nx")), ny = static_cast<size_t>(a.p.getInt("ny")),
-               nz = static_cast<size_t>(a.p.getInt("nz"));
-  const int steps = static_cast<int>(a.p.getInt("steps")), repeat = static_cast<int>(a.p.getInt("repeat"));
+  ThroughputSpec spec;
+  spec.nx = static_cast<size_t>(a.p.getInt("nx"));
+  spec.ny = static_cast<size_t>(a.p.getInt("ny"));
+  spec.nz = static_cast<size_t>(a.p.getInt("nz"));
+  spec.steps = static_cast<int>(a.p.getInt("steps"));
+  spec.repeat = static_cast<int>(a.p.getInt("repeat"));
+  spec.kernels.clear();
+  std::stringstream kernels(a.p.get("kernel"));
+  for (std::string item; std::getline(kernels, item, ',');) spec.kernels.push_back(kernelFromName(item));
+  if (spec.kernels.empty()) throw ArgError("soil-bench: --kernel needs at least one kernel");
+  const std::string first = kernelName(spec.kernels.front());
+  std::ostringstream table;
+  table << "precision kernel  threads | M el/s wall  per CPU s  per core | step ms  kernel ms  rest of step (CPU)"
+        << " | kernel GFLOP/s  of peak | x " << first << " (step, kernel)\n";
   for (Precision pr : a.precisions) {
+    const std::string pname = precisionName(pr);
     json jp;
-    double one = 0.0;
+    const std::vector<FmaPeak> peaks{measureFmaPeak(pr, 1), measureFmaPeak(pr, 2)};
+    jp["fma_peak"] = {{"instruction_set", peaks[0].instruction_set},
+                      {"gflop_s_1_thread", peaks[0].gflop_s},
+                      {"gflop_s_2_threads", peaks[1].gflop_s}};
+    std::vector<std::vector<ThroughputResult>> by_threads;
     for (int threads : {1, 2}) {
-      std::vector<double> rates, cpu_rates;
-      for (int rep = 0; rep < repeat; ++rep) {
-        const ThroughputResult r = runThroughput(nx, ny, nz, threads, pr, steps);
-        rates.push_back(r.element_updates_per_s);
-        cpu_rates.push_back(r.element_updates_per_cpu_s);
-      }
-      const double med = median(rates);
-      if (threads == 1) one = med;
-      jp["threads_" + std::to_string(threads)] = {{"median_element_updates_per_s", med},
-                                                  {"per_core", med / threads},
-                                                  {"median_per_cpu_second", median(cpu_rates)},
-                                                  {"min", *std::min_element(rates.begin(), rates.end())},
-                                                  {"max", *std::max_element(rates.begin(), rates.end())}};
-      if (threads == 2) jp["speedup_2_cores"] = med / one;
+      spec.threads = threads;
+      spec.precision = pr;
+      by_threads.push_back(runThroughput(spec));
     }
-    out[precisionName(pr)] = jp;
+    for (size_t q = 0; q < spec.kernels.size(); ++q) {
+      json jk;
+      for (size_t t = 0; t < by_threads.size(); ++t) {
+        const ThroughputResult& r = by_threads[t][q];
+        const double peak = peaks[t].gflop_s;
+        jk["threads_" + std::to_string(r.threads)] = {
+            {"median_element_updates_per_s", r.element_updates_per_s},
+            {"per_core", r.element_updates_per_s / r.threads},
+            {"median_per_cpu_second", r.element_updates_per_cpu_s},
+            {"min", r.min_element_updates_per_s},
+            {"max", r.max_element_updates_per_s},
+            {"step_seconds", r.seconds_per_step},
+            {"kernel_seconds", r.kernel_seconds_per_apply},
+            {"rest_of_step_fraction", 1.0 - r.kernel_seconds_per_apply / r.seconds_per_step},
+            {"cpu_seconds_per_step", r.cpu_seconds_per_step},
+            {"kernel_cpu_seconds", r.kernel_cpu_seconds_per_apply},
+            {"rest_of_step_fraction_cpu", 1.0 - r.kernel_cpu_seconds_per_apply / r.cpu_seconds_per_step},
+            {"kernel_element_updates_per_s", r.kernel_element_updates_per_s},
+            {"multiply_adds_per_step", r.multiply_adds_per_step},
+            {"kernel_gflop_s", r.kernel_gflop_s},
+            {"kernel_fraction_of_fma_peak", r.kernel_gflop_s / peak},
+            {"step_ratio_to_" + first, r.step_ratio_to_first},
+            {"kernel_ratio_to_" + first, r.kernel_ratio_to_first}};
+        table << std::left << std::setw(10) << pname << std::setw(8) << kernelName(r.kernel) << std::setw(8)
+              << r.threads << std::right << std::fixed << std::setprecision(1) << "| " << std::setw(11)
+              << r.element_updates_per_s / 1e6 << std::setw(11) << r.element_updates_per_cpu_s / 1e6 << std::setw(10)
+              << r.element_updates_per_s / 1e6 / r.threads << " | " << std::setprecision(2) << std::setw(7)
+              << 1e3 * r.seconds_per_step << std::setw(11) << 1e3 * r.kernel_seconds_per_apply << std::setw(11)
+              << std::setprecision(0) << 100.0 * (1.0 - r.kernel_seconds_per_apply / r.seconds_per_step) << " % ("
+              << 100.0 * (1.0 - r.kernel_cpu_seconds_per_apply / r.cpu_seconds_per_step) << " % CPU)"
+              << " | " << std::setprecision(1) << std::setw(14) << r.kernel_gflop_s << std::setw(7)
+              << std::setprecision(0) << 100.0 * r.kernel_gflop_s / peak << " % | " << std::setprecision(2)
+              << r.step_ratio_to_first << ", " << r.kernel_ratio_to_first << "\n";
+      }
+      const ThroughputResult &one = by_threads[0][q], &two = by_threads[1][q];
+      jk["speedup_2_cores"] = two.element_updates_per_s / one.element_updates_per_s;
+      jk["kernel_speedup_2_cores"] = one.kernel_seconds_per_apply / two.kernel_seconds_per_apply;
+      table << std::left << std::setw(10) << pname << std::setw(8) << kernelName(one.kernel) << "2-core speed-up "
+            << std::setprecision(2) << jk["speedup_2_cores"].get<double>() << " (kernel alone "
+            << jk["kernel_speedup_2_cores"].get<double>() << ")\n"
+            << std::right;
+      jp[kernelName(one.kernel)] = jk;
+    }
+    table << pname << " FMA peak (" << peaks[0].instruction_set << "): " << std::setprecision(1) << peaks[0].gflop_s
+          << " GFLOP/s 1 thread, " << peaks[1].gflop_s << " GFLOP/s 2 threads\n";
+    out[pname] = jp;
   }
-  out["elements"] = nx * ny * nz;
+  // With --pml-thickness: the first kernel on the same mesh with the (first) PML case vs dashpots, 2 threads,
+  // alternating rounds; the ratio says what the PML adds to a step.
+  if (const std::vector<ReflectionCase> pml = a.pmlCases(); !pml.empty()) {
+    ThroughputSpec one = spec;
+    one.kernels = {spec.kernels.front()};
+    one.threads = 2;
+    one.precision = a.precisions.front();
+    one.repeat = 1;
+    std::vector<double> ratio, cpu_ratio;
+    size_t layer_elements = 0;
+    for (int rep = 0; rep < spec.repeat; ++rep) {
+      one.boundary = BoundarySpec{};
+      const ThroughputResult d = runThroughput(one).front();
+      one.boundary = pml.front().boundary;
+      const ThroughputResult m = runThroughput(one).front();
+      ratio.push_back(m.seconds_per_step / d.seconds_per_step);
+      cpu_ratio.push_back(d.element_updates_per_cpu_s / m.element_updates_per_cpu_s);
+      layer_elements = m.boundary_elements;
+    }
+    auto med = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    out["pml"] = {{"boundary", absorberFields(pml.front())},
+                  {"pml_elements", layer_elements},
+                  {"step_time_ratio_pml_over_dashpots", med(ratio)},
+                  {"cpu_time_ratio_pml_over_dashpots", med(cpu_ratio)}};
+    table << "PML " << pml.front().boundary.pml.thickness_m << " m (" << layer_elements
+          << " layer elements): step time x " << std::setprecision(2) << med(ratio) << " of dashpots\n";
+  }
+  out["elements"] = spec.nx * spec.ny * spec.nz;
+  out["steps"] = spec.steps;
+  out["repeat"] = spec.repeat;
   out["note"] =
-      "medians over repeats; the machine is shared, wall-clock figures are noisy; per_cpu_second = element "
-      "updates per CPU second actually given to the process (user + sys over all threads)";
+      "medians over repeats, the kernels alternating within each repeat; ratios are medians of the ratios of the "
+      "same repeat; the machine is shared, wall-clock figures are noisy; per_cpu_second = element updates per CPU "
+      "second actually given to the process (user + sys over all threads); kernel_* = the kernel alone on the "
+      "same mesh and box; rest_of_step = nodal update (and loads) = 1 - kernel / step; GFLOP/s count 2 flops "
+      "per multiply-add; fma_peak from a register-only FMA loop in the widest vectors";
+  // The table goes to stderr so that stdout stays one JSON document.
+  std::cerr << table.str();
 }
 
 void benchReflection(const BenchArgs& a, json& out) {
   std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
   a.addLayerCases(cases);
+  for (const ReflectionCase& c : a.pmlCases()) cases.push_back(c);
   const ReflectionResult r = runBoundaryReflection(a.p.getDouble("small-box"), cases);
   json rows = json::array();
   for (const ReflectionRow& row : r.rows) {
-    json fields = layerFields(row.layer);
+    json fields = absorberFields(row.absorber);
     fields.update(reflectionFigures(row));
     fields["elements"] = row.elements;
     fields["dt_s"] = row.dt_s;
@@ -163,7 +278,8 @@ void benchReflection(const BenchArgs& a, json& out) {
   out["note"] =
       "peak = max |w_small_box - w_reference_box| / max |w_reference| at r (Lamb Hann pulse, 50 ms); band_* = rms "
       "reflected / direct amplitude over 1 Hz lines of the band; the first run is the small box with Lysmer "
-      "dashpots only, the others enlarge it by layer_m (alpha 0: no layer)";
+      "dashpots only, the others enlarge it by layer_m with the given boundary (a graded layer of alpha 0: the "
+      "enlarged box with dashpots)";
 }
 
 void benchReflectionLayered(const BenchArgs& a, json& out) {
@@ -188,11 +304,15 @@ void benchReflectionLayered(const BenchArgs& a, json& out) {
   const SolverOptions& so = sp.solver;
   if (so.boundary.method == BoundaryMethod::GradedLayer) {
     const GradedLayerSpec& g = so.boundary.graded_layer;
-    const ReflectionCase configured{g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom};
-    cases.push_back(configured);
-    cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
+    cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom));
+    cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, 0.0, g.exponent, g.bottom));
+  } else if (so.boundary.method == BoundaryMethod::Pml) {
+    const PmlSpec& g = so.boundary.pml;
+    cases.push_back(ReflectionCase::pml(g));
+    cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, 0.0, 1.0, g.bottom));
   }
   if (a.p.isSet("layer") || a.p.isSet("alpha") || a.p.isSet("exponent")) a.addLayerCases(cases);
+  for (const ReflectionCase& c : a.pmlCases()) cases.push_back(c);
   const LayeredReflectionResult r = runLayeredReflection(spec, cases);
   json rows = json::array();
   for (const LayeredReflectionRow& row : r.rows) {
@@ -202,7 +322,7 @@ void benchReflectionLayered(const BenchArgs& a, json& out) {
       station.update(reflectionFigures(row.stations[k]));
       st.push_back(station);
     }
-    json fields = layerFields(row.layer);
+    json fields = absorberFields(row.absorber);
     fields["elements"] = row.elements;
     fields["stations"] = st;
     rows.push_back(fields);
@@ -217,8 +337,8 @@ void benchReflectionLayered(const BenchArgs& a, json& out) {
   out["runs"] = rows;
   out["note"] =
       "config's soil profile and mesh resolution, quarter model, Hann pulse point load; runs: box of interest with "
-      "dashpots only, then (if configured) with the config's layer outside it and the same enlarged box without "
-      "layer, then the --layer/--alpha/--exponent product if given; figures as in `reflection`";
+      "dashpots only, then (if configured) with the config's layer or PML outside it and the same enlarged box "
+      "without it, then the --layer/--alpha/--exponent and --pml-* products if given; figures as in `reflection`";
 }
 
 void writeLambCsv(const std::string& path, const LambResult& r) {
@@ -301,6 +421,8 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("nz", "throughput: elements in depth", "30");
   p.option("steps", "throughput: steps per measurement", "20");
   p.option("repeat", "throughput: measurements (median reported)", "5");
+  p.option("kernel", "throughput: stiffness kernels side by side, comma-separated (element | stencil)",
+           "element,stencil");
   p.option("precision", "float | double | both", "both");
   p.option("small-box", "reflection: half width and depth of the small box (m)", "8");
   p.option("layer", "reflection: absorbing layer thicknesses (m), comma-separated", "4");
@@ -311,6 +433,15 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("lamb-h", "lamb: element size (m)", "");
   p.option("csv", "lamb: write FE and analytic curves to this CSV", "");
   p.option("box", "reflection-layered: half width and depth of the box of interest (m), e.g. 16,12", "16,12");
+  // PML cases of `reflection`, `reflection-layered` and `throughput`: the product of these lists.
+  p.option("pml-thickness", "reflection*, throughput: PML thicknesses (m), comma-separated (none if empty)", "");
+  p.option("pml-reflection", "reflection*: PML target reflection coefficients R, comma-separated", "1e-3");
+  p.option("pml-exponent", "reflection*: PML profile exponents n, comma-separated", "2");
+  p.option("pml-kappa", "reflection*: PML kappa at the outer face, comma-separated", "1");
+  p.option("pml-alpha", "reflection*: PML CFS frequency shift alpha (1/s), comma-separated", "0");
+  p.option("pml-ratio", "reflection*: M-PML ratio p, comma-separated", "0");
+  p.option("pml-bottom", "reflection*: 1 = PML along the bottom too, 0 = sides only", "1");
+  p.option("pml-outer-dashpots", "reflection*: 1 = dashpots at the PML's outer faces, 0 = free faces", "1");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
   addConfigOptions(p);  // reflection-layered: soil profile, mesh resolution, damping and layer from the config
   std::vector<std::string> rest = args;
@@ -392,14 +523,7 @@ int soilRun(const std::vector<std::string>& args) {
 
   const auto wall0 = std::chrono::steady_clock::now();
   // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
-  std::vector<RigidBodySpec> bodies;
-  if (cfg.root().has("building")) {
-    const building::BuildingModel house(building::loadBuildingParams(cfg.root()));
-    if (house.params().coupling == building::SoilCoupling::TwoWay) {
-      bodies.push_back(coupling::houseFoundation(cfg.root(), house, params).body);
-    }
-  }
-  SoilModel model(params, sleeper_x, rate, bodies);
+  SoilModel model(params, sleeper_x, rate, coupling::attachedBodies(cfg.root(), params));
   nlohmann::json summary = model.summary();
   std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
             << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
