@@ -4,7 +4,7 @@
 
 #include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
-#include "railvib/vehicle/vehicle_params.hpp"
+#include "railvib/vehicle/vehicle_model.hpp"
 
 namespace railvib::ros_io {
 
@@ -15,8 +15,9 @@ MovingLoadSourceNode::MovingLoadSourceNode(ros::NodeHandle& nh, ros::NodeHandle&
   total_samples_ = static_cast<uint64_t>(std::llround(run.duration_s / dt_s_)) + 1;
   source_.front_start_m = run.front_axle_start_m;
   source_.speed_m_s = run.speed_m_s;
-  source_.offsets_behind_m = vehicle::loadVehicleParams(config.root()).axle_offsets_m;
-  source_.forces_n = track::staticWheelLoadsPerRail(config.section("vehicle"));
+  const vehicle::VehicleModel vehicle_model(vehicle::loadVehicleParams(config.root()));
+  source_.offsets_behind_m = vehicle_model.params().axleOffsets();
+  source_.forces_n = vehicle::uniformStaticWheelLoadsPerRail(vehicle_model);
   int block_samples = 1000;
   int required_subscribers = 1;
   private_nh.param("block_samples", block_samples, block_samples);

@@ -132,31 +132,27 @@ visualization_msgs::MarkerArray SceneVisualizer::siteMarkers(const Config& confi
 
   // The tram, frame-locked to tram/<body> so each body follows its tf pose.
   if (config.root().has("vehicle")) {
-    const vehicle::VehicleParams params = vehicle::loadVehicleParams(config.root());
-    const vehicle::VehicleModel model(params);
-    const std::vector<CarbodySection> sections = carbodySections(params);
+    const vehicle::VehicleModel model(vehicle::loadVehicleParams(config.root()));
     const double half_gauge_m = 0.5 * site.rail_gauge_m;
     for (const vehicle::BodyInfo& body : model.bodies()) {
       const std::string frame = names::tramBodyFrame(body.name);
       std::vector<Marker> parts;
       switch (body.kind) {
         case vehicle::BodyKind::Carbody: {
-          const CarbodySection& sec = sections.at(static_cast<size_t>(body.index));
           // Offsets are behind the front axle; frame x points forward.
-          const double centre_x = body.offset_m - 0.5 * (sec.front_offset_m + sec.rear_offset_m);
-          parts.push_back(box(frame, "tram_carbodies", id++, centre_x, 0.0, 0.0,
-                              sec.rear_offset_m - sec.front_offset_m - 0.1, kTramWidthM, kTramCarbodyHeightM,
-                              colour(0.35f, 0.65f, 0.95f, 0.7f)));
+          const double centre_x = body.offset_m - 0.5 * (body.front_m + body.rear_m);
+          parts.push_back(box(frame, "tram_carbodies", id++, centre_x, 0.0, 0.0, body.rear_m - body.front_m - 0.1,
+                              kTramWidthM, kTramCarbodyHeightM, colour(0.35f, 0.65f, 0.95f, 0.7f)));
           break;
         }
         case vehicle::BodyKind::Bogie:
-          parts.push_back(box(frame, "tram_bogies", id++, 0.0, 0.0, 0.0, kBogieLengthM, site.rail_gauge_m + 0.3,
-                              kBogieHeightM, colour(0.3f, 0.3f, 0.3f)));
+          parts.push_back(box(frame, "tram_bogies", id++, body.offset_m - 0.5 * (body.front_m + body.rear_m), 0.0, 0.0,
+                              body.rear_m - body.front_m, site.rail_gauge_m + 0.3, kBogieHeightM,
+                              colour(0.3f, 0.3f, 0.3f)));
           break;
         case vehicle::BodyKind::Tread:
-        case vehicle::BodyKind::TrailerWheel: {
-          const double radius_m =
-              body.kind == vehicle::BodyKind::Tread ? params.motor_radius_m : params.trailer_radius_m;
+        case vehicle::BodyKind::Wheel: {
+          const double radius_m = model.wheels().at(static_cast<size_t>(body.index)).radius_m;
           for (const double y : {-half_gauge_m, half_gauge_m}) {
             Marker wheel = marker(frame, "tram_wheels", id++, Marker::CYLINDER);
             wheel.pose.position.y = y;
@@ -170,8 +166,8 @@ visualization_msgs::MarkerArray SceneVisualizer::siteMarkers(const Config& confi
           }
           break;
         }
-        case vehicle::BodyKind::MotorWheel:
-          break;  // hub motor inside the wheel: drawn by its tread
+        case vehicle::BodyKind::WheelHub:
+          break;  // inside the wheel: drawn by its tread
       }
       for (Marker& m : parts) {
         m.frame_locked = true;

@@ -1,7 +1,5 @@
 #include "railvib/ros/tram_display.hpp"
 
-#include <stdexcept>
-
 namespace railvib::ros_io {
 
 double tramDisplayHeight(vehicle::BodyKind kind, double wheel_radius_m) {
@@ -14,15 +12,6 @@ double tramDisplayHeight(vehicle::BodyKind kind, double wheel_radius_m) {
     default:
       return kRailHeadDisplayZM + wheel_radius_m;  // wheel centres
   }
-}
-
-std::vector<CarbodySection> carbodySections(const vehicle::VehicleParams& params) {
-  const auto& centre = params.carbody_com_offsets_m;
-  const auto& joint = params.articulation_offsets_m;
-  if (centre.size() != 3 || joint.size() != 2) {
-    throw std::invalid_argument("carbodySections: expected 3 carbodies and 2 articulations");
-  }
-  return {{2.0 * centre[0] - joint[0], joint[0]}, {joint[0], joint[1]}, {joint[1], 2.0 * centre[2] - joint[1]}};
 }
 
 }  // namespace railvib::ros_io

@@ -69,7 +69,7 @@ void VehicleNode::run() {
 
 void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
   const auto& bodies = model_->bodies();
-  const double radius = model_->params().motor_radius_m;
+  const double radius = model_->wheels().front().radius_m;
   tf2_msgs::TFMessage poses;
   auto& transforms = poses.transforms;
   for (size_t k = 0; k < block.sampleCount(); ++k) {

@@ -15,6 +15,7 @@
 #include "railvib/track/track_analysis.hpp"
 #include "railvib/track/track_newmark.hpp"
 #include "railvib/track/track_stepper.hpp"
+#include "railvib/vehicle/vehicle_model.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 #include "tool_common.hpp"
 
@@ -221,7 +222,7 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   if (single) {
     run.offsets_behind_m = {0.0};
   } else {
-    run.offsets_behind_m = vehicle::loadVehicleParams(root).axle_offsets_m;
+    run.offsets_behind_m = vehicle::loadVehicleParams(root).axleOffsets();
   }
   if (args.has("load")) {
     const double load = args.getDouble("load");
@@ -229,9 +230,10 @@ int runMovingLoad(const std::vector<std::string>& argv) {
     run.forces_n.assign(run.offsets_behind_m.size(), load);
     load_source = "--load";
   } else {
-    const std::vector<double> wheel = track::staticWheelLoadsPerRail(root.section("vehicle"));
+    const vehicle::VehicleModel vehicle_model(vehicle::loadVehicleParams(root));
+    const std::vector<double> wheel = vehicle::uniformStaticWheelLoadsPerRail(vehicle_model);
     run.forces_n.assign(run.offsets_behind_m.size(), wheel.front());
-    load_source = "T2000 static: total mass * g / (2 * axles), per wheel and rail";
+    load_source = vehicle_model.params().name + " static: weight per rail / axles, per wheel and rail";
   }
   const TrackModel model(params);
   const size_t ns = static_cast<size_t>(model.sleeperCount());

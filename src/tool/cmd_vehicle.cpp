@@ -22,6 +22,14 @@ namespace {
 using nlohmann::json;
 using namespace railvib::vehicle;
 
+/// --vehicle NAME: the library entry to run instead of vehicle.name.
+void addVehicleOption(ArgParser& p) {
+  p.option("vehicle", "vehicle of the library `vehicles` (default: vehicle.name)", "");
+}
+void vehicleOverride(const ArgParser& p, std::vector<std::string>& extra) {
+  if (p.has("vehicle") && !p.get("vehicle").empty()) extra.push_back("vehicle.name=" + p.get("vehicle"));
+}
+
 std::string trackChoice(const ArgParser& p) {
   const std::string t = p.get("track");
   if (t != "rigid" && t != "flexible") throw ArgError("--track must be rigid or flexible, got '" + t + "'");
@@ -44,8 +52,9 @@ json modesJson(const std::vector<Mode>& modes, bool flexible) {
 }
 
 int vehicleModes(const std::vector<std::string>& args) {
-  ArgParser p("vehicle-modes", "eigenanalysis of the T2000 linearised about static equilibrium");
+  ArgParser p("vehicle-modes", "eigenanalysis of the vehicle linearised about static equilibrium");
   addConfigOptions(p);
+  addVehicleOption(p);
   p.option("track", "rigid | flexible", "rigid");
   p.option("foundation", "flexible track foundation: clm | winkler (default: config)", "");
   p.option("min-vehicle-share", "flexible: keep modes with at least this share of kinetic energy in the vehicle",
@@ -56,6 +65,7 @@ int vehicleModes(const std::vector<std::string>& args) {
   std::vector<std::string> extra;
   if (p.has("foundation") && !p.get("foundation").empty())
     extra.push_back("track.foundation.model=" + p.get("foundation"));
+  vehicleOverride(p, extra);
   const Config cfg = loadConfig(p, extra);
   const auto t0 = std::chrono::steady_clock::now();
   const VehicleModel model(loadVehicleParams(cfg.root()));
@@ -70,7 +80,8 @@ int vehicleModes(const std::vector<std::string>& args) {
     modes = vehicleModesFlexible(model, tp, mo);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  json out = {{"track", track},
+  json out = {{"vehicle", model.params().name},
+              {"track", track},
               {"dof", model.dofCount()},
               {"wall_time_s", wall},
               {"modes", modesJson(modes, track == "flexible")}};
@@ -82,9 +93,11 @@ int vehicleModes(const std::vector<std::string>& args) {
 }
 
 int wheelImpedance(const std::vector<std::string>& args) {
-  ArgParser p("wheel-impedance", "direct impedance F/v of a wheel (tread) of the T2000, frequency domain");
+  ArgParser p("wheel-impedance", "direct impedance F/v at a wheel's contact body, frequency domain");
   addConfigOptions(p);
-  p.option("wheel", "axle index 0..5 (0: leading bogie motor wheel, 2: middle bogie motor wheel)", "0");
+  addVehicleOption(p);
+  p.option("wheel",
+           "wheel (axle) index, front to rear (T2000: 0 leading bogie motor wheel, 2 middle bogie motor wheel)", "0");
   p.option("track", "rigid | flexible", "rigid");
   p.option("csv", "output CSV (f_hz, |Z| N s/m, phase deg, Re, Im)");
   p.option("f-min", "lowest frequency (Hz)", "1");
@@ -92,7 +105,9 @@ int wheelImpedance(const std::vector<std::string>& args) {
   p.option("points", "log-spaced frequencies", "300");
   if (!p.parse(args)) return 0;
   const std::string track = trackChoice(p);
-  const Config cfg = loadConfig(p);
+  std::vector<std::string> extra;
+  vehicleOverride(p, extra);
+  const Config cfg = loadConfig(p, extra);
   const VehicleModel model(loadVehicleParams(cfg.root()));
   const int wheel = static_cast<int>(p.getInt("wheel"));
   if (wheel < 0 || wheel >= model.wheelCount())
@@ -117,7 +132,8 @@ int wheelImpedance(const std::vector<std::string>& args) {
     }
     csv.commit();
   }
-  printJson({{"wheel", wheel},
+  printJson({{"vehicle", model.params().name},
+             {"wheel", wheel},
              {"axle_type", model.wheels()[wheel].type == AxleType::Motor ? "motor" : "trailer"},
              {"track", track},
              {"points", n},
@@ -272,8 +288,9 @@ json passageWheels(const PassageSetup& setup, const VehiclePassage& run, const C
 }
 
 int passage(const std::vector<std::string>& args) {
-  ArgParser p("passage", "coupled T2000 / track passage over the defect (contact forces, soil loads, summary)");
+  ArgParser p("passage", "coupled vehicle / track passage over the defect (contact forces, soil loads, summary)");
   addConfigOptions(p);
+  addVehicleOption(p);
   p.option("out", "output directory");
   p.option("speed", "speed (m/s; default simulation.speed_m_s)", "");
   p.option("duration", "simulated time (s; default simulation.duration_s)", "");
@@ -289,6 +306,7 @@ int passage(const std::vector<std::string>& args) {
   if (p.has("dt")) extra.push_back("simulation.time_step_s=" + p.get("dt"));
   if (p.has("foundation")) extra.push_back("track.foundation.model=" + p.get("foundation"));
   if (p.has("track")) extra.push_back("simulation.vehicle_track=" + trackChoice(p));
+  vehicleOverride(p, extra);
   const long every = p.getInt("csv-every");
   if (every < 1) throw ArgError("--csv-every must be >= 1");
   const PassageSetup setup(loadConfig(p, extra));
@@ -321,7 +339,8 @@ int passage(const std::vector<std::string>& args) {
   }
   csv.commit();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  printJson({{"track", setup.flexible() ? "flexible" : "rigid"},
+  printJson({{"vehicle", setup.model.params().name},
+             {"track", setup.flexible() ? "flexible" : "rigid"},
              {"foundation", setup.flexible() ? track::foundationName(setup.track.foundation) : "none"},
              {"speed_m_s", setup.passage.speed_m_s},
              {"duration_s", setup.passage.duration_s},
@@ -336,7 +355,8 @@ int passage(const std::vector<std::string>& args) {
   return 0;
 }
 
-const Registrar reg_modes("vehicle-modes", "T2000 modes (rigid | flexible track), named, f0 and damping", vehicleModes);
+const Registrar reg_modes("vehicle-modes", "vehicle modes (rigid | flexible track), named, f0 and damping",
+                          vehicleModes);
 const Registrar reg_imp("wheel-impedance", "wheel impedance F/v (rigid | flexible track) to CSV", wheelImpedance);
 const Registrar reg_pass("passage", "coupled vehicle/track passage: contact forces, soil loads, summary", passage);
 

@@ -44,33 +44,4 @@ std::vector<PointLoad> MovingLoadSource::loadsAt(double t_s) const {
   return out;
 }
 
-std::vector<double> staticWheelLoadsPerRail(const ConfigNode& vehicle, double g_m_s2) {
-  const ConfigNode carbody = vehicle.section("carbody");
-  const ConfigNode bogie = vehicle.section("bogie");
-  const ConfigNode motor = vehicle.section("motor_wheel");
-  const ConfigNode trailer = vehicle.section("trailer_wheel");
-  const std::vector<std::string> types = vehicle.texts("axle_types");
-  const std::vector<double> offsets = vehicle.numbers("axle_offsets_m", Range::nonNegative(), 1, 64);
-  if (types.size() != offsets.size()) vehicle.fail("axle_types", "must have one entry per axle_offsets_m entry");
-  const size_t axles = offsets.size();
-  if (axles % 2 != 0) vehicle.fail("axle_offsets_m", "expected two axles per bogie");
-  double total = 2.0 * carbody.number("end_mass_kg", Range::positive()) +
-                 carbody.number("central_mass_kg", Range::positive()) +
-                 static_cast<double>(axles / 2) * bogie.number("mass_kg", Range::positive());
-  const double motor_wheel =
-      motor.number("mass_kg", Range::positive()) + motor.number("tread_mass_kg", Range::nonNegative());
-  const double trailer_wheel = trailer.number("mass_kg", Range::positive());
-  for (const auto& t : types) {
-    if (t == "motor") {
-      total += 2.0 * motor_wheel;
-    } else if (t == "trailer") {
-      total += 2.0 * trailer_wheel;
-    } else {
-      vehicle.fail("axle_types", "each entry must be motor or trailer, got '" + t + "'");
-    }
-  }
-  // Uniform split over the axles, per rail (half of an axle load).
-  return std::vector<double>(axles, total * g_m_s2 / (2.0 * static_cast<double>(axles)));
-}
-
 }  // namespace railvib::track

@@ -15,8 +15,6 @@ namespace railvib::vehicle {
 
 namespace {
 
-const char* kBogieLabel[3] = {"leading bogie", "middle bogie", "rear bogie"};
-
 /// Category of each full-coordinate DOF and the body it belongs to.
 struct DofLabels {
   std::vector<std::string> category;
@@ -28,7 +26,9 @@ DofLabels labels(const VehicleModel& model) {
   L.category.assign(static_cast<size_t>(model.fullDofCount()), "");
   L.body.assign(static_cast<size_t>(model.fullDofCount()), "");
   for (const auto& b : model.bodies()) {
-    const std::string bogie = kBogieLabel[std::min(2, b.kind == BodyKind::Bogie ? b.index : b.index / 2)];
+    const std::string bogie = model.bogieLabel(b);
+    const auto& wheels = model.wheels();
+    const bool motor = b.index < static_cast<int>(wheels.size()) && wheels[b.index].type == AxleType::Motor;
     switch (b.kind) {
       case BodyKind::Carbody:
         L.category[b.z_dof] = "car-body bounce";
@@ -38,14 +38,14 @@ DofLabels labels(const VehicleModel& model) {
         L.category[b.z_dof] = bogie + " bounce";
         L.category[b.theta_dof] = bogie + " pitch";
         break;
-      case BodyKind::MotorWheel:
-        L.category[b.z_dof] = "axle hop (motor wheels, " + bogie + ")";
+      case BodyKind::WheelHub:
+        L.category[b.z_dof] = std::string("axle hop (") + (motor ? "motor" : "trailer") + " wheels, " + bogie + ")";
         break;
       case BodyKind::Tread:
         L.category[b.z_dof] = "tread on resilient ring (" + bogie + ")";
         break;
-      case BodyKind::TrailerWheel:
-        L.category[b.z_dof] = "axle hop (trailer wheel, " + bogie + ")";
+      case BodyKind::Wheel:
+        L.category[b.z_dof] = std::string("axle hop (") + (motor ? "motor" : "trailer") + " wheel, " + bogie + ")";
         break;
     }
     L.body[b.z_dof] = b.name;
@@ -80,11 +80,10 @@ void nameMode(const VehicleModel& model, const DofLabels& L, const Eigen::Vector
   for (const BodyInfo& b : model.bodies()) {
     if (b.kind != BodyKind::Bogie || b.name != mode.body) continue;
     const std::complex<double> z = full[b.z_dof], theta = full[b.theta_dof];
-    const std::string bogie = kBogieLabel[std::min(2, b.index)];
+    const std::string bogie = model.bogieLabel(b);
     const bool named_after_this_bogie = mode.name == bogie + " bounce" || mode.name == bogie + " pitch";
     if (!named_after_this_bogie) break;
-    const auto& axles = model.params().axle_offsets_m;
-    const double half_wheelbase_m = 0.5 * (axles[2 * b.index + 1] - axles[2 * b.index]);
+    const double half_wheelbase_m = b.half_wheelbase_m;
     if (half_wheelbase_m * std::abs(theta) < 0.01 * std::abs(z)) {
       mode.name = bogie + " bounce";  // the axles move within 1 % alike: no pivot to speak of
     } else {

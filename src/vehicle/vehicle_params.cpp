@@ -1,9 +1,12 @@
 #include "railvib/vehicle/vehicle_params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "railvib/common/site.hpp"
+#include "railvib/vehicle/vehicle_model.hpp"
 
 namespace railvib::vehicle {
 
@@ -15,95 +18,265 @@ std::string fmt(double v) {
 }
 }  // namespace
 
-VehicleParams loadVehicleParams(const ConfigNode& root) {
-  const ConfigNode v = root.section("vehicle");
-  VehicleParams p;
-  const Range pos = Range::positive();
-  const Range nonneg = Range::nonNegative();
+std::vector<double> VehicleParams::axleOffsets() const {
+  std::vector<double> x;
+  for (const WheelSpec& w : wheels) x.push_back(bodies.at(static_cast<size_t>(w.body)).x_m);
+  return x;
+}
 
-  const ConfigNode car = v.section("carbody");
-  p.end_carbody_mass_kg = car.number("end_mass_kg", pos);
-  p.central_carbody_mass_kg = car.number("central_mass_kg", pos);
-  p.end_carbody_pitch_inertia_kg_m2 = car.number("end_pitch_inertia_kg_m2", pos);
-  p.central_carbody_pitch_inertia_kg_m2 = car.number("central_pitch_inertia_kg_m2", pos);
-
-  const ConfigNode bogie = v.section("bogie");
-  p.bogie_mass_kg = bogie.number("mass_kg", pos);
-  p.bogie_pitch_inertia_kg_m2 = bogie.number("pitch_inertia_kg_m2", pos);
-
-  const ConfigNode mw = v.section("motor_wheel");
-  p.motor_mass_kg = mw.number("mass_kg", pos);
-  p.tread_mass_kg = mw.number("tread_mass_kg", pos);
-  p.ring_stiffness_n_m = mw.number("ring_stiffness_n_m", pos);
-  p.ring_damping_n_s_m = mw.number("ring_damping_n_s_m", nonneg);
-  p.motor_radius_m = mw.number("radius_m", Range::closed(0.1, 1.0));
-
-  const ConfigNode tw = v.section("trailer_wheel");
-  p.trailer_mass_kg = tw.number("mass_kg", pos);
-  p.trailer_radius_m = tw.number("radius_m", Range::closed(0.1, 1.0));
-
-  const ConfigNode prim = v.section("primary_suspension");
-  p.motor_primary_stiffness_n_m = prim.number("motor_stiffness_n_m", pos);
-  p.motor_primary_damping_n_s_m = prim.number("motor_damping_n_s_m", nonneg);
-  p.trailer_primary_stiffness_n_m = prim.number("trailer_stiffness_n_m", pos);
-  p.trailer_primary_damping_n_s_m = prim.number("trailer_damping_n_s_m", nonneg);
-
-  const ConfigNode sec = v.section("secondary_suspension");
-  p.secondary_stiffness_n_m = sec.number("stiffness_n_m", pos);
-  p.secondary_damping_n_s_m = sec.number("damping_n_s_m", nonneg);
-
-  p.axle_offsets_m = v.numbers("axle_offsets_m", Range::closed(0.0, 100.0), 6, 6);
-  if (p.axle_offsets_m.front() != 0.0) v.fail("axle_offsets_m", "the first offset is the front axle and must be 0");
-  for (size_t i = 1; i < p.axle_offsets_m.size(); ++i) {
-    if (!(p.axle_offsets_m[i] > p.axle_offsets_m[i - 1])) {
-      v.fail("axle_offsets_m", "axle offsets must be strictly increasing (front to rear); offset " + std::to_string(i) +
-                                   " = " + fmt(p.axle_offsets_m[i]) + " m is not behind offset " +
-                                   std::to_string(i - 1) + " = " + fmt(p.axle_offsets_m[i - 1]) + " m");
-    }
+int VehicleParams::bodyIndex(const std::string& body_name) const {
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b].name == body_name) return static_cast<int>(b);
   }
-  const std::vector<std::string> types = v.texts("axle_types");
-  if (types.size() != p.axle_offsets_m.size()) {
-    v.fail("axle_types", "needs one type per axle (" + std::to_string(p.axle_offsets_m.size()) + "), got " +
-                             std::to_string(types.size()));
+  return -1;
+}
+
+namespace {
+
+/// Keys of a map section, in file order.
+std::vector<std::string> keysOf(const ConfigNode& node) {
+  std::vector<std::string> keys;
+  for (const auto& kv : node.yaml()) keys.push_back(kv.first.as<std::string>());
+  return keys;
+}
+
+BodyKind bodyKind(const ConfigNode& b) {
+  const std::string k = b.choice("kind", {"carbody", "bogie", "wheel_hub", "tread", "wheel"});
+  if (k == "carbody") return BodyKind::Carbody;
+  if (k == "bogie") return BodyKind::Bogie;
+  if (k == "wheel_hub") return BodyKind::WheelHub;
+  if (k == "tread") return BodyKind::Tread;
+  return BodyKind::Wheel;
+}
+
+/// A point attached to a body must lie on it: within its extent; a point body is where it is.
+bool onBody(const BodySpec& b, double x_m) {
+  const double tol = 1e-6;
+  return x_m >= b.front_m - tol && x_m <= b.rear_m + tol;
+}
+
+std::string extentText(const BodySpec& b) {
+  if (!b.hasPitch()) return "a point body at x = " + fmt(b.x_m) + " m";
+  return "extends over [" + fmt(b.front_m) + ", " + fmt(b.rear_m) + "] m";
+}
+
+int bodyRef(const ConfigNode& node, const std::string& key, const std::string& body_name, const VehicleParams& p) {
+  const int b = p.bodyIndex(body_name);
+  if (b < 0) {
+    std::string known;
+    for (const auto& body : p.bodies) known += (known.empty() ? "" : ", ") + body.name;
+    node.fail(key, "no body '" + body_name + "' in this vehicle (bodies: " + known + ")");
   }
-  p.axle_types.clear();
-  for (const auto& t : types) {
-    if (t == "motor") {
-      p.axle_types.push_back(AxleType::Motor);
-    } else if (t == "trailer") {
-      p.axle_types.push_back(AxleType::Trailer);
+  return b;
+}
+
+void readBodies(const ConfigNode& v, VehicleParams& p) {
+  const ConfigNode bodies = v.section("bodies");
+  for (const std::string& name : keysOf(bodies)) {
+    const ConfigNode b = bodies.section(name);
+    BodySpec s;
+    s.name = name;
+    s.kind = bodyKind(b);
+    s.x_m = b.number("x_m", Range::closed(-100.0, 200.0));
+    s.y_m = b.number("y_m", Range::closed(0.0, 5.0), 0.0);
+    s.mass_kg = b.number("mass_kg", Range::positive());
+    s.roll_inertia_kg_m2 = b.number("roll_inertia_kg_m2", Range::nonNegative(), 0.0);
+    if (s.hasPitch()) {
+      s.pitch_inertia_kg_m2 = b.number("pitch_inertia_kg_m2", Range::positive());
+      const std::vector<double> ext = b.numbers("extent_m", Range::closed(-100.0, 200.0), 2, 2);
+      s.front_m = ext[0];
+      s.rear_m = ext[1];
+      if (!(s.front_m <= s.x_m && s.x_m <= s.rear_m && s.front_m < s.rear_m)) {
+        b.fail("extent_m",
+               "must be [front, rear] behind the front axle, front < rear, around the centre of mass x_m = " +
+                   fmt(s.x_m) + " m");
+      }
     } else {
-      v.fail("axle_types", "unknown axle type '" + t + "' (allowed: motor, trailer)");
+      for (const char* key : {"pitch_inertia_kg_m2", "extent_m"}) {
+        if (b.has(key)) b.fail(key, "a " + b.text("kind") + " is a point body: it bounces but does not pitch");
+      }
+      s.front_m = s.rear_m = s.x_m;
+    }
+    p.bodies.push_back(s);
+  }
+  if (p.bodies.empty()) bodies.fail("", "a vehicle needs bodies");
+}
+
+void readSuspensions(const ConfigNode& v, VehicleParams& p) {
+  const ConfigNode stages = v.section("suspension_stages");
+  struct Stage {
+    double k, d;
+  };
+  std::vector<std::pair<std::string, Stage>> stage_list;
+  for (const std::string& name : keysOf(stages)) {
+    const ConfigNode s = stages.section(name);
+    stage_list.push_back(
+        {name, {s.number("stiffness_n_m", Range::positive()), s.number("damping_n_s_m", Range::nonNegative())}});
+  }
+  for (const ConfigNode& e : v.sectionList("suspensions")) {
+    SuspensionSpec s;
+    s.stage = e.text("stage");
+    const auto it =
+        std::find_if(stage_list.begin(), stage_list.end(), [&](const auto& st) { return st.first == s.stage; });
+    if (it == stage_list.end()) e.fail("stage", "no such stage in " + stages.keyPath());
+    s.stiffness_n_m = it->second.k;
+    s.damping_n_s_m = it->second.d;
+    s.upper_body = bodyRef(e, "upper", e.text("upper"), p);
+    s.lower_body = bodyRef(e, "lower", e.text("lower"), p);
+    if (s.upper_body == s.lower_body) e.fail("lower", "an element joins two different bodies");
+    s.x_m = e.number("x_m", Range::closed(-100.0, 200.0));
+    s.y_m = e.number("y_m", Range::closed(0.0, 5.0), 0.0);
+    for (int b : {s.upper_body, s.lower_body}) {
+      const BodySpec& body = p.bodies[static_cast<size_t>(b)];
+      if (!onBody(body, s.x_m)) {
+        e.fail("x_m", "the element is attached outside body '" + body.name + "', which " + extentText(body));
+      }
+      if (s.y_m == 0.0 && !body.onCentreLine()) {
+        e.fail("y_m", "an element on the centre line (y = 0) cannot hold body '" + body.name +
+                          "' of one side (y = " + fmt(body.y_m) + " m)");
+      }
+    }
+    p.suspensions.push_back(s);
+  }
+}
+
+void readJoints(const ConfigNode& v, VehicleParams& p) {
+  if (!v.has("joints")) return;
+  for (const ConfigNode& j : v.sectionList("joints")) {
+    JointSpec s;
+    j.choice("type", {"vertical_pin"});
+    const std::vector<std::string> names = j.texts("bodies");
+    if (names.size() != 2) j.fail("bodies", "a pin joins two bodies: [first, second]");
+    s.body_a = bodyRef(j, "bodies", names[0], p);
+    s.body_b = bodyRef(j, "bodies", names[1], p);
+    s.name = j.text("name", names[0] + "/" + names[1]);
+    if (s.body_a == s.body_b) j.fail("bodies", "a pin joins two different bodies");
+    s.x_m = j.number("x_m", Range::closed(-100.0, 200.0));
+    s.y_m = j.number("y_m", Range::closed(0.0, 5.0), 0.0);
+    for (int b : {s.body_a, s.body_b}) {
+      const BodySpec& body = p.bodies[static_cast<size_t>(b)];
+      if (!body.hasPitch()) j.fail("bodies", "a pin joins carbodies or bogies; '" + body.name + "' is a point body");
+      if (!onBody(body, s.x_m))
+        j.fail("x_m", "the pin lies outside body '" + body.name + "', which " + extentText(body));
+    }
+    s.pitch_stiffness_n_m_rad = j.number("pitch_stiffness_n_m_rad", Range::nonNegative());
+    s.pitch_damping_n_m_s_rad = j.number("pitch_damping_n_m_s_rad", Range::nonNegative());
+    p.joints.push_back(s);
+  }
+}
+
+void readWheels(const ConfigNode& v, VehicleParams& p) {
+  const std::vector<ConfigNode> wheels = v.sectionList("wheels");
+  if (wheels.empty()) v.fail("wheels", "a vehicle needs at least one wheel");
+  for (const ConfigNode& w : wheels) {
+    WheelSpec s;
+    s.name = w.text("name");
+    s.body = bodyRef(w, "body", w.text("body"), p);
+    const BodySpec& body = p.bodies[static_cast<size_t>(s.body)];
+    if (body.kind != BodyKind::Tread && body.kind != BodyKind::Wheel) {
+      w.fail("body", "the contact is carried by a tread or a wheel, not by '" + body.name + "'");
+    }
+    for (const WheelSpec& other : p.wheels) {
+      if (other.body == s.body) w.fail("body", "body '" + body.name + "' already carries wheel " + other.name);
+    }
+    s.type = w.choice("type", {"motor", "trailer"}) == "motor" ? AxleType::Motor : AxleType::Trailer;
+    s.radius_m = w.number("radius_m", Range::closed(0.1, 1.0));
+    p.wheels.push_back(s);
+  }
+  const std::vector<double> x = p.axleOffsets();
+  if (x.front() != 0.0) {
+    wheels.front().fail("body",
+                        "the first wheel is the front axle, the origin of every offset: its body must be at "
+                        "x_m = 0, not " +
+                            fmt(x.front()) + " m");
+  }
+  for (size_t i = 1; i < x.size(); ++i) {
+    if (!(x[i] > x[i - 1])) {
+      wheels[i].fail("body", "wheels are listed front to rear: wheel " + std::to_string(i) + " at x = " + fmt(x[i]) +
+                                 " m is not behind wheel " + std::to_string(i - 1) + " at " + fmt(x[i - 1]) + " m");
     }
   }
-  p.hertz_constant_n_m1_5 = v.section("contact").number("hertz_constant_n_m1_5", pos);
+}
 
-  const ConfigNode half = v.section("half_vehicle");
-  // 1 = the whole vehicle on one rail (a sensitivity study), 0.5 = the symmetric half.
-  p.body_share_per_rail = half.number("body_share_per_rail", Range{0.0, 1.0, true, false});
+/// Every body must be held (through elements and joints) by a wheel, and every wheel must lie
+/// under the vehicle's carbodies. (A wheel within its bogie follows from its elements: each is
+/// attached to both its bodies, readSuspensions.)
+void checkStructure(const ConfigNode& v, const VehicleParams& p) {
+  const size_t n = p.bodies.size();
+  std::vector<bool> held(n, false);
+  for (const WheelSpec& w : p.wheels) held[static_cast<size_t>(w.body)] = true;
+  for (bool grew = true; grew;) {
+    grew = false;
+    auto link = [&](int a, int b) {
+      if (held[static_cast<size_t>(a)] != held[static_cast<size_t>(b)]) {
+        held[static_cast<size_t>(a)] = held[static_cast<size_t>(b)] = true;
+        grew = true;
+      }
+    };
+    for (const SuspensionSpec& e : p.suspensions) link(e.upper_body, e.lower_body);
+    for (const JointSpec& j : p.joints) link(j.body_a, j.body_b);
+  }
+  std::string loose;
+  for (size_t b = 0; b < n; ++b) {
+    if (!held[b]) loose += (loose.empty() ? "" : ", ") + p.bodies[b].name;
+  }
+  if (!loose.empty()) {
+    v.fail("bodies",
+           "disconnected: no element or joint links " + loose + " to a wheel (every body must rest on the rail)");
+  }
+  double front = 1e300, rear = -1e300;
+  for (const BodySpec& b : p.bodies) {
+    if (b.kind != BodyKind::Carbody) continue;
+    front = std::min(front, b.front_m);
+    rear = std::max(rear, b.rear_m);
+  }
+  for (const WheelSpec& w : p.wheels) {
+    const BodySpec& body = p.bodies[static_cast<size_t>(w.body)];
+    if (front <= rear && (body.x_m < front || body.x_m > rear)) {
+      v.fail("wheels", "wheel " + w.name + " at x = " + fmt(body.x_m) + " m lies outside the carbodies, [" +
+                           fmt(front) + ", " + fmt(rear) + "] m behind the front axle");
+    }
+  }
+}
 
-  const ConfigNode geo = v.section("geometry");
-  p.carbody_com_offsets_m = geo.numbers("carbody_com_offsets_m", Range::any(), 3, 3);
-  p.articulation_offsets_m = geo.numbers("articulation_offsets_m", Range::any(), 2, 2);
-  const double b0 = 0.5 * (p.axle_offsets_m[0] + p.axle_offsets_m[1]);
-  const double b1 = 0.5 * (p.axle_offsets_m[2] + p.axle_offsets_m[3]);
-  const double b2 = 0.5 * (p.axle_offsets_m[4] + p.axle_offsets_m[5]);
-  const auto& a = p.articulation_offsets_m;
-  const auto& c = p.carbody_com_offsets_m;
-  if (!(b0 < a[0] && a[0] < b1 && b1 < a[1] && a[1] < b2)) {
-    geo.fail("articulation_offsets_m", "articulations must lie between the bogie centres (" + fmt(b0) + ", " + fmt(b1) +
-                                           ", " + fmt(b2) + " m behind the front axle)");
+}  // namespace
+
+std::vector<std::string> vehicleLibrary(const ConfigNode& root) { return keysOf(root.section("vehicles")); }
+
+VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name) {
+  VehicleParams p;
+  if (root.has("vehicle")) {
+    const ConfigNode sel = root.section("vehicle");
+    // 1 = the whole vehicle on one rail (a sensitivity study), 0.5 = the symmetric half.
+    p.body_share_per_rail = sel.section("half_vehicle").number("body_share_per_rail", Range{0.0, 1.0, true, false});
+    p.gravity_m_s2 = sel.number("gravity_m_s2", Range::closed(9.0, 10.0), 9.81);
   }
-  if (!(c[0] < a[0] && a[0] < c[1] && c[1] < a[1] && a[1] < c[2])) {
-    geo.fail("carbody_com_offsets_m", "each carbody centre must lie inside its section (articulations at " + fmt(a[0]) +
-                                          " and " + fmt(a[1]) + " m)");
+  const ConfigNode library = root.section("vehicles");
+  if (!library.has(name)) {
+    std::string known;
+    for (const auto& k : keysOf(library)) known += (known.empty() ? "" : ", ") + k;
+    library.fail(name, "no vehicle '" + name + "' in the library (vehicles: " + known + ")");
   }
-  const ConfigNode art = v.section("articulation");
-  art.choice("model", {"vertical_pin"});
-  p.articulation_pitch_stiffness_n_m_rad = art.number("pitch_stiffness_n_m_rad", nonneg);
-  p.articulation_pitch_damping_n_m_s_rad = art.number("pitch_damping_n_m_s_rad", nonneg);
-  p.gravity_m_s2 = v.number("gravity_m_s2", Range::closed(9.0, 10.0), 9.81);
+  const ConfigNode v = library.section(name);
+  p.name = name;
+  p.description = v.text("description", name);
+  p.hertz_constant_n_m1_5 = v.section("contact").number("hertz_constant_n_m1_5", Range::positive());
+  readBodies(v, p);
+  readSuspensions(v, p);
+  readJoints(v, p);
+  readWheels(v, p);
+  checkStructure(v, p);
+  try {
+    const VehicleModel model(p);
+  } catch (const std::invalid_argument& e) {
+    v.fail("bodies", e.what());
+  }
   return p;
+}
+
+VehicleParams loadVehicleParams(const ConfigNode& root) {
+  const ConfigNode sel = root.section("vehicle");
+  return loadVehicleParams(root, sel.choice("name", vehicleLibrary(root)));
 }
 
 UnevennessParams loadUnevennessParams(const ConfigNode& root) {

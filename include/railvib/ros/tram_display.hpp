@@ -3,10 +3,8 @@
 // The vehicle model is planar (vertical displacement and pitch of each body,
 // relative to the unloaded reference). The tf frames tram/<body> place each
 // body's reference point at a display height above the rail head, and the
-// visualizer draws boxes and wheels around those frames. The carbody sections
-// reach from one articulation (or the tram's end) to the next; the end
-// sections are symmetric about their centre of mass, which gives the equal
-// overhangs of the 22.8 m tram in config/vehicle_t2000.yaml.
+// visualizer draws boxes and wheels around those frames. The carbody boxes
+// span each carbody's extent (`extent_m` in the vehicle file).
 #pragma once
 
 #include <string>
@@ -22,18 +20,9 @@ constexpr double kRailHeadDisplayZM = 0.65;
 /// Height of a body's tf frame above the soil surface in frame `track` (m), at rest.
 double tramDisplayHeight(vehicle::BodyKind kind, double wheel_radius_m);
 
-/// Longitudinal extent of a carbody section, offsets behind the front axle (m).
-struct CarbodySection {
-  double front_offset_m = 0.0;
-  double rear_offset_m = 0.0;
-};
-/// Front, central and rear sections from the carbody centres and the articulations.
-std::vector<CarbodySection> carbodySections(const vehicle::VehicleParams& params);
-
 // Outline of the T2000 for display [public]: 2.30 m wide, floor 0.35 m, roof 3.3 m above the rail.
 constexpr double kTramWidthM = 2.30;
 constexpr double kTramCarbodyHeightM = 2.95;
-constexpr double kBogieLengthM = 2.4;
 constexpr double kBogieHeightM = 0.35;
 
 }  // namespace railvib::ros_io

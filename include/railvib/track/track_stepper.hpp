@@ -62,9 +62,4 @@ struct MovingLoadSource {
   std::vector<PointLoad> loadsAt(double t_s) const;
 };
 
-/// Static wheel load per rail from the `vehicle` section: total vehicle mass
-/// (carbodies + 3 bogies + wheels) * g / (number of axles), one value per axle
-/// (uniform split; documented in docs/track.md).
-std::vector<double> staticWheelLoadsPerRail(const ConfigNode& vehicle_section, double g_m_s2 = 9.81);
-
 }  // namespace railvib::track

@@ -3,7 +3,7 @@
 //
 // Rigid track: each wheel sits on its linearised Hertz spring
 // k_H = 1.5 C_H delta0^0.5 to ground; the damped eigenproblem is solved
-// exactly (state space, 2 x 18).
+// exactly (state space, 2 x the reduced DOF count).
 // Flexible track: the vehicle (wheels at their static positions, x_front = 0
 // by default) is coupled through the linearised Hertz springs to a local
 // track model (same parameters, rail `margin_m` beyond the end axles, free

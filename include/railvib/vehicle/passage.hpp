@@ -1,7 +1,7 @@
 // railvib/vehicle: the coupled vehicle/rail passage, streamed block by block.
 //
 // Time integration: implicit Newmark (beta = 1/4, gamma = 1/2, constant dt)
-// of the vehicle (dense, 18 DOF) and, for a flexible track, of the track
+// of the vehicle (dense, its reduced DOFs) and, for a flexible track, of the track
 // model (railvib::track::TrackNewmark), coupled exactly at the end of each
 // step through the nonlinear Hertz contact F = C_H delta^1.5 (delta > 0, else
 // 0: loss of contact allowed), delta = w_wheel - w_rail + z (w downward, z

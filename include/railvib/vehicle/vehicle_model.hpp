@@ -1,25 +1,22 @@
-// railvib/vehicle: linear multibody model of the T2000, half vehicle on one rail.
+// railvib/vehicle: linear multibody model of a vehicle described as data
+// (vehicle_params.hpp), half vehicle on one rail.
 //
 // Planar vertical model (bounce + pitch). Vertical displacements are positive
 // DOWNWARD (track convention), pitch is positive nose-up (rear end down):
 // the downward displacement of a point of a body at offset s behind the front
-// axle is w(s) = z + (s - s_c) * theta, s_c the body's reference point.
+// axle is w(s) = z + (s - s_c) * theta, s_c the body's reference point (its
+// centre of mass).
 //
-// Bodies (full coordinates, 22 DOF for (A1)+Bo'+(1A)):
-//   3 carbodies   z, theta (front, central, rear)
-//   3 bogies      z, theta (leading, middle, rear)
-//   motor wheel   z of the motor-wheel mass (primary k_m, d_m to the bogie)
-//                 and z of the tread (resilient ring k_t, d_t to the motor mass;
-//                 the tread carries the wheel/rail contact)
-//   trailer wheel z (primary k_d, d_d to the bogie; carries the contact)
-// Joint model: each articulation is a vertical pin between neighbouring
-// carbodies (equal vertical displacement of both bodies at the pin, relative
-// pitch free but for an optional pitch spring/damper). The two pin
-// constraints are eliminated exactly: full = T * reduced, reduced coordinates
-// (z_front, theta_front, theta_central, theta_rear, bogies, wheels), 20 DOF.
-// Each carbody rests on its bogie through the secondary suspension (one
-// element per bogie side at the bogie centre); the end carbodies also hang on
-// their articulation with the central carbody, which sits on the middle bogie.
+// Full coordinates, in the order of the bodies in the file: z (and theta for
+// carbodies and bogies) of every body; the T2000 (A1)+Bo'+(1A) has 22.
+// Elements: each suspension is a spring-damper between the same point of its
+// two bodies, e = w_upper(x) - w_lower(x), K += k e e^T; a vertical pin joint
+// adds its relative-pitch spring/damper and the holonomic constraint "both
+// bodies move alike at the pin", which is eliminated exactly: full = T *
+// reduced, the second body's bounce being expressed by the others' (the
+// T2000's two pins: 20 reduced DOF). A body or element on the centre line
+// counts with body_share_per_rail, one of a side once (vehicle_params.hpp).
+// Wheels: the contact DOF is the bounce of the wheel's body.
 //
 // The model is linear; gravity is a constant load; the Hertz contact is in
 // the passage solver (passage.hpp). All springs are unstressed at q = 0.
@@ -33,16 +30,20 @@
 
 namespace railvib::vehicle {
 
-enum class BodyKind { Carbody, Bogie, MotorWheel, Tread, TrailerWheel };
-
 /// A rigid body of the model (for poses and mode names).
 struct BodyInfo {
   std::string name;  ///< e.g. "front_carbody", "leading_bogie", "axle0_tread"
   BodyKind kind = BodyKind::Carbody;
-  int index = 0;                ///< carbody/bogie index 0..2, or axle index
+  int index = 0;                ///< carbodies and bogies: index among their kind; wheel parts: the wheel (axle) index
   double offset_m = 0.0;        ///< reference point behind the front axle
   Eigen::Index z_dof = -1;      ///< full-coordinate index of z
   Eigen::Index theta_dof = -1;  ///< full-coordinate index of theta (-1: no pitch)
+  double front_m = 0.0;         ///< longitudinal extent behind the front axle
+  double rear_m = 0.0;
+  /// Wheel parts: the bogie they hang from (index in bodies(), -1: none); bogies: themselves.
+  int bogie = -1;
+  /// Bogies: half the span of their wheels (m).
+  double half_wheelbase_m = 0.0;
 };
 
 struct WheelInfo {
@@ -52,7 +53,8 @@ struct WheelInfo {
   double radius_m = 0.34;
   /// Mass of the body that carries the contact (tread or trailer wheel), kg.
   double contact_mass_kg = 0.0;
-  int bogie = 0;
+  int bogie = 0;                  ///< index of its bogie among the bogies (-1: none)
+  int body = -1;                  ///< index of the contact body in bodies()
   Eigen::Index contact_dof = -1;  ///< reduced-coordinate DOF carrying the contact (tread / trailer wheel)
 };
 
@@ -65,6 +67,8 @@ struct BodyPose {
 
 class VehicleModel {
  public:
+  /// Throws std::invalid_argument for a vehicle that is a mechanism (a motion of its bodies that
+  /// stretches no element while the wheels stand on the rail); loadVehicleParams checks this.
   explicit VehicleModel(const VehicleParams& params);
 
   const VehicleParams& params() const { return params_; }
@@ -94,6 +98,8 @@ class VehicleModel {
 
   /// Poses of all bodies for a reduced displacement vector.
   std::vector<BodyPose> poses(const Eigen::VectorXd& q) const;
+  /// Display name of a bogie or the bogie of a wheel part ("leading bogie"), or "vehicle".
+  std::string bogieLabel(const BodyInfo& body) const;
 
  private:
   VehicleParams params_;
@@ -104,5 +110,9 @@ class VehicleModel {
   std::vector<BodyInfo> bodies_;
   double total_mass_ = 0.0;
 };
+
+/// The weight per rail shared equally by the wheels (N): the constant moving loads that stand for
+/// the vehicle in track-only runs (`railvib_tool moving-load`, the track scenario).
+std::vector<double> uniformStaticWheelLoadsPerRail(const VehicleModel& model);
 
 }  // namespace railvib::vehicle

@@ -1,12 +1,22 @@
-// railvib/vehicle: parameters of the T2000 half-vehicle model, of the rail
-// unevenness and of a passage, read from the merged configuration.
+// railvib/vehicle: a rail vehicle as data (bodies, suspensions per stage,
+// joints, wheels), the rail unevenness and a passage, read from the merged
+// configuration.
 //
-// Half-vehicle convention (one rail): carbody and bogie masses and pitch
-// inertias are the whole-vehicle figures of the paper times
-// `vehicle.half_vehicle.body_share_per_rail` (0.5 by symmetry); wheels are
-// independent wheels, one per axle position and rail, so wheel masses,
-// primary, ring, secondary (one element per bogie side) and Hertz constants
-// are per rail as given. The soil receives both rails (2x the half track).
+// The scenario names its vehicle (`vehicle.name`), an entry of the library
+// `vehicles.<name>` (config/vehicle_<name>.yaml, docs/vehicle.md):
+//   bodies              rigid bodies: kind, centre of mass (x behind the front
+//                       axle, y lateral), mass, pitch (and roll) inertia,
+//                       longitudinal extent
+//   suspension_stages   the spring-damper of each stage (per element)
+//   suspensions         elements: stage, upper and lower body, point (x, y)
+//   joints              articulations between bodies (vertical pins)
+//   wheels              the contact points: body, motor | trailer, radius
+// Every body and element lies on the vehicle's centre line (y = 0: it spans
+// both rails) or on one side (y > 0, listed once, its mirror image at -y: a
+// symmetric vehicle). The half-vehicle model runs on one rail (the track
+// model is one rail): the elements and bodies of that side count once, those
+// on the centre line with `vehicle.half_vehicle.body_share_per_rail` (0.5).
+// The soil receives both rails (2x the half track).
 #pragma once
 
 #include <string>
@@ -18,48 +28,87 @@ namespace railvib::vehicle {
 
 enum class AxleType { Motor, Trailer };
 
+/// What a body is: sets its DOFs (carbodies and bogies bounce and pitch, the
+/// others are point bodies that bounce), its mode names and how it is drawn.
+enum class BodyKind {
+  Carbody,   ///< carbody section
+  Bogie,     ///< bogie frame
+  WheelHub,  ///< unsprung mass above a resilient element (e.g. the T2000 hub motor wheel)
+  Tread,     ///< contact body of a resilient wheel, on its resilient element
+  Wheel,     ///< solid wheel or wheelset carrying the contact, directly on the primary suspension
+};
+
+struct BodySpec {
+  std::string name;
+  BodyKind kind = BodyKind::Carbody;
+  /// Centre of mass (the body's reference point), behind the front axle (m).
+  double x_m = 0.0;
+  /// Lateral position of the centre of mass (m): 0 = on the centre line, > 0 = a body of one side.
+  double y_m = 0.0;
+  double mass_kg = 0.0;
+  /// About the lateral axis through the centre of mass; carbodies and bogies only (kg m^2).
+  double pitch_inertia_kg_m2 = 0.0;
+  /// About the longitudinal axis, for full-width models (kg m^2); not used by the half vehicle.
+  double roll_inertia_kg_m2 = 0.0;
+  /// Longitudinal extent, offsets behind the front axle (m); a point body: [x_m, x_m].
+  double front_m = 0.0;
+  double rear_m = 0.0;
+  bool hasPitch() const { return kind == BodyKind::Carbody || kind == BodyKind::Bogie; }
+  bool onCentreLine() const { return y_m == 0.0; }
+};
+
+/// A vertical spring-damper between two bodies, attached at the same point of both.
+struct SuspensionSpec {
+  std::string stage;  ///< e.g. primary, secondary, resilient_ring
+  int upper_body = -1;
+  int lower_body = -1;
+  double x_m = 0.0;  ///< behind the front axle
+  double y_m = 0.0;  ///< lateral: 0 = centre line, > 0 = one side (mirrored)
+  double stiffness_n_m = 0.0;
+  double damping_n_s_m = 0.0;
+};
+
+enum class JointType {
+  VerticalPin,  ///< both bodies have the same vertical displacement at the pin; relative pitch restrained by a spring
+};
+
+struct JointSpec {
+  std::string name;
+  JointType type = JointType::VerticalPin;
+  int body_a = -1;  ///< its vertical displacement at the pin is kept
+  int body_b = -1;  ///< its bounce follows body_a's at the pin (eliminated)
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double pitch_stiffness_n_m_rad = 0.0;
+  double pitch_damping_n_m_s_rad = 0.0;
+};
+
+struct WheelSpec {
+  std::string name;  ///< e.g. axle0
+  int body = -1;     ///< the body carrying the contact (Tread or Wheel)
+  AxleType type = AxleType::Motor;
+  double radius_m = 0.34;
+};
+
 struct VehicleParams {
-  // carbodies (whole vehicle figures; multiplied by body_share_per_rail)
-  double end_carbody_mass_kg = 7580.0;
-  double central_carbody_mass_kg = 2600.0;
-  double end_carbody_pitch_inertia_kg_m2 = 5.5e4;
-  double central_carbody_pitch_inertia_kg_m2 = 3.8e3;
-  // bogies (whole vehicle figures)
-  double bogie_mass_kg = 1800.0;
-  double bogie_pitch_inertia_kg_m2 = 300.0;
-  // motor wheel (per wheel): motor-wheel mass, tread on the resilient ring
-  double motor_mass_kg = 945.0;
-  double tread_mass_kg = 80.0;
-  double ring_stiffness_n_m = 145.0e6;
-  double ring_damping_n_s_m = 3.0e3;
-  double motor_radius_m = 0.34;
-  // trailer wheel (per wheel)
-  double trailer_mass_kg = 160.0;
-  double trailer_radius_m = 0.34;
-  // suspensions (per wheel / per bogie side)
-  double motor_primary_stiffness_n_m = 44.0e6;
-  double motor_primary_damping_n_s_m = 18.0e3;
-  double trailer_primary_stiffness_n_m = 5.88e6;
-  double trailer_primary_damping_n_s_m = 6.0e3;
-  double secondary_stiffness_n_m = 960.0e3;
-  double secondary_damping_n_s_m = 56.25e3;
-  // axles: offsets behind the front axle (m), strictly increasing, 2 per bogie
-  std::vector<double> axle_offsets_m{0.0, 1.6667, 7.5, 9.1667, 15.0, 16.6667};
-  std::vector<AxleType> axle_types{AxleType::Motor, AxleType::Trailer, AxleType::Motor,
-                                   AxleType::Motor, AxleType::Trailer, AxleType::Motor};
+  /// Key of the vehicle in `vehicles` and its description.
+  std::string name = "t2000";
+  std::string description;
+  std::vector<BodySpec> bodies;
+  std::vector<SuspensionSpec> suspensions;
+  std::vector<JointSpec> joints;
+  /// Front to rear: wheel 0 is the front axle (x = 0).
+  std::vector<WheelSpec> wheels;
   double hertz_constant_n_m1_5 = 1.0e11;
-  // half-vehicle convention
+  /// Share of a centre-line body or element carried by the modelled rail.
   double body_share_per_rail = 0.5;
-  // geometry (offsets behind the front axle) and articulation joint model
-  std::vector<double> carbody_com_offsets_m{1.5833, 8.3333, 15.0833};
-  std::vector<double> articulation_offsets_m{6.2333, 10.4333};
-  /// Relative pitch stiffness/damping of each articulation (whole vehicle figures, N m/rad, N m s/rad).
-  double articulation_pitch_stiffness_n_m_rad = 2.0e6;
-  double articulation_pitch_damping_n_m_s_rad = 0.0;
   double gravity_m_s2 = 9.81;
 
-  int axleCount() const { return static_cast<int>(axle_offsets_m.size()); }
-  int bogieCount() const { return axleCount() / 2; }
+  int axleCount() const { return static_cast<int>(wheels.size()); }
+  /// Axle (wheel) positions behind the front axle (m), front to rear.
+  std::vector<double> axleOffsets() const;
+  /// Index of the body called `name`, or -1.
+  int bodyIndex(const std::string& name) const;
 };
 
 /// Random track irregularity from a one-sided vertical PSD (documented in docs/vehicle.md).
@@ -121,8 +170,15 @@ struct PassageParams {
   bool convected_track_start = false;
 };
 
-/// Read and validate the `vehicle` section (ranges, axle order, geometry). Throws ConfigError.
+/// Read and validate the scenario's vehicle: `vehicle` (which entry of `vehicles`, the half-vehicle
+/// share, gravity) and that entry. Refuses, with key path, value and file: unknown bodies, negative
+/// masses, elements or wheels outside their bodies, wheels out of order, bodies connected to no wheel,
+/// a mechanism (a motion no spring resists: docs/vehicle.md). Throws ConfigError.
 VehicleParams loadVehicleParams(const ConfigNode& root);
+/// The same for the library entry `vehicles.<name>`, whatever `vehicle.name` says.
+VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name);
+/// Names of the vehicles in the library `vehicles`, in file order.
+std::vector<std::string> vehicleLibrary(const ConfigNode& root);
 /// Read `unevenness` (defect; optional random/measured); checks the defect lies
 /// inside the modelled track (`track.extent`) when that section exists.
 UnevennessParams loadUnevennessParams(const ConfigNode& root);

@@ -103,7 +103,12 @@ TEST(Config, HarenScenarioLoadsAndCarriesPaperValues) {
   const Config c = Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml");
   // Spot checks of the paper's appendix values reaching the merged tree.
   EXPECT_DOUBLE_EQ(c.section("track").section("ballast").number("stiffness_n_m", Range::positive()), 32.0e6);
-  EXPECT_DOUBLE_EQ(c.section("vehicle").section("carbody").number("end_mass_kg", Range::positive()), 7580.0);
+  EXPECT_DOUBLE_EQ(c.section("vehicles")
+                       .section("t2000")
+                       .section("bodies")
+                       .section("front_carbody")
+                       .number("mass_kg", Range::positive()),
+                   7580.0);
   EXPECT_DOUBLE_EQ(c.section("soil").number("rayleigh_beta_s", Range::nonNegative()), 4.0e-4);
   EXPECT_NEAR(c.section("simulation").number("speed_m_s", Range::positive()) * 3.6, 30.0, 1e-9);
 }

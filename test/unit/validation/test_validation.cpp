@@ -1,0 +1,145 @@
+// Unit tests of the validation against the paper (docs/validation.md): the quick model claims keep
+// their recorded verdicts, and the chain claims judge synthetic records the way they say.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "railvib/common/config.hpp"
+#include "railvib/validation/validation.hpp"
+
+using namespace railvib;
+using namespace railvib::validation;
+
+namespace {
+Config haren(const std::vector<std::string>& overrides = {}) {
+  return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
+}
+}  // namespace
+
+TEST(Validation, QuickModelClaimsKeepTheirRecordedVerdicts) {
+  // The claims that agreed when docs/validation.md was written still agree (what railvib_tool
+  // validate exits 4 on); and every claim is judged (no claim without a criterion or a number).
+  const auto claims = modelClaims(haren(), ValidationOptions{true});
+  ASSERT_GE(claims.size(), 15u);
+  int agrees = 0;
+  for (const auto& c : claims) {
+    EXPECT_FALSE(c.regressed()) << c.id << ": " << c.ours << " (" << c.criterion << ")";
+    EXPECT_FALSE(c.criterion.empty()) << c.id;
+    EXPECT_FALSE(c.ours.empty()) << c.id;
+    if (c.verdict == Verdict::Differs) {
+      EXPECT_FALSE(c.cause.empty()) << c.id << " differs without a cause";
+    }
+    agrees += c.verdict == Verdict::Agrees;
+    RecordProperty(c.id, verdictName(c.verdict) + ": " + c.ours);
+  }
+  EXPECT_GE(agrees, 8);
+}
+
+namespace {
+/// A record of the four sensors: each axle's impact rings as a decaying sine at `f_ground_hz` on
+/// the ground sensors and the ground floor; the first floor rings at `f_floor_hz` with a decay
+/// time `floor_decay_s`.
+std::string writeRecords(const std::string& name, double f_ground_hz, double f_floor_hz, double floor_decay_s) {
+  const std::string path = std::string(::testing::TempDir()) + "/" + name + ".csv";
+  std::ofstream f(path);
+  f << "t_s,ground_2m_vz_m_s,ground_8m_vz_m_s,house_ground_floor_vz_m_s,house_first_floor_vz_m_s,"
+       "bldg_response_point_vz_m_s\n";
+  const double fs = 1000.0, impacts[6] = {1.45, 1.65, 2.35, 2.55, 3.25, 3.45};
+  for (int k = 0; k < 4000; ++k) {
+    const double t = k / fs;
+    double g = 0.0, h = 0.0;
+    for (double ti : impacts) {
+      if (t < ti) continue;
+      g += 1e-3 * std::exp(-(t - ti) / 0.03) * std::sin(2 * M_PI * f_ground_hz * (t - ti));
+      h += 1e-3 * std::exp(-(t - ti) / floor_decay_s) * std::sin(2 * M_PI * f_floor_hz * (t - ti));
+    }
+    f << t << "," << g << "," << 0.3 * g << "," << 0.8 * g << "," << h << "," << 0.8 * g << "\n";
+  }
+  return path;
+}
+
+const Claim& find(const std::vector<Claim>& claims, const std::string& id) {
+  for (const auto& c : claims) {
+    if (c.id == id) return c;
+  }
+  static Claim none;
+  ADD_FAILURE() << "no claim " << id;
+  return none;
+}
+}  // namespace
+
+TEST(Validation, ChainClaimsJudgeSyntheticRecords) {
+  const Config cfg = haren();
+  // the paper's picture: ground at 23 Hz, a first floor ringing long at its 12.64 Hz bending mode
+  const SensorRecords paper_like = readSensorRecords(writeRecords("paper_like", 23.0, 12.64, 0.4));
+  ASSERT_EQ(paper_like.names.size(), 5u);
+  EXPECT_NEAR(paper_like.rate_hz, 1000.0, 1e-6);
+  const auto a = chainClaims(cfg, paper_like, nullptr);
+  EXPECT_EQ(find(a, "chain.ground_spectrum.ground_2m").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(a, "chain.ground_spectrum.ground_8m").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(a, "chain.house_ground_vs_free_field").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(a, "chain.kbf_impacts_resolved").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(a, "chain.first_floor_bending_modes").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(a, "chain.winkler_vs_clm").verdict, Verdict::Pending);  // no Winkler run given
+  // ours: ground at 33 Hz, first floor ringing at the excitation, briefly: every impact resolved
+  const SensorRecords ours_like = readSensorRecords(writeRecords("ours_like", 33.0, 33.0, 0.03));
+  const auto b = chainClaims(cfg, ours_like, &paper_like);
+  EXPECT_EQ(find(b, "chain.ground_spectrum.ground_2m").verdict, Verdict::Differs);
+  EXPECT_EQ(find(b, "chain.first_floor_bending_modes").verdict, Verdict::Differs);
+  EXPECT_EQ(find(b, "chain.kbf_impacts_resolved").verdict, Verdict::Differs);
+  EXPECT_EQ(find(b, "chain.winkler_vs_clm").verdict, Verdict::Differs);  // peaks 10 Hz apart
+}
+
+TEST(Validation, ReadingsAreConfigOverridesThatLoad) {
+  const Config cfg = haren();
+  const auto readings = t2000Readings(cfg);
+  ASSERT_GE(readings.size(), 6u);
+  EXPECT_EQ(readings.front().name, "default");
+  for (const auto& r : readings) {
+    std::vector<std::string> o = r.overrides;
+    EXPECT_NO_THROW(Config::load(cfg.file(), o).root()) << r.name;
+  }
+}
+
+namespace {
+/// Exit status of `railvib_tool validate ARGS` (stdout and stderr discarded).
+int validateExit(const std::string& args) {
+  const std::string cmd = std::string(RAILVIB_TOOL_PATH) + " validate --config " + RAILVIB_SOURCE_DIR +
+                          "/config/haren.yaml " + args + " >/dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+bool anyRegressed(const std::vector<Claim>& claims) {
+  for (const auto& c : claims) {
+    if (c.regressed()) return true;
+  }
+  return false;
+}
+}  // namespace
+
+TEST(Validation, CommandExitsFourWhenAClaimThatAgreedDiffers) {
+  // railvib_tool validate judges the records as the library does, writes the Markdown table, and
+  // exits 4 exactly when a claim recorded as agreeing now differs (a pending claim does not count).
+  const Config cfg = haren();
+  const std::string paper = writeRecords("cli_paper_like", 23.0, 12.64, 0.4);
+  const std::string ours = writeRecords("cli_ours_like", 33.0, 33.0, 0.03);
+  const SensorRecords paper_rec = readSensorRecords(paper), ours_rec = readSensorRecords(ours);
+  const auto a = chainClaims(cfg, paper_rec, nullptr);
+  EXPECT_EQ(find(a, "chain.winkler_vs_clm").verdict, Verdict::Pending);
+  EXPECT_FALSE(find(a, "chain.winkler_vs_clm").regressed());  // pending: not judged
+  const std::string md = std::string(::testing::TempDir()) + "/cli_table.md";
+  EXPECT_EQ(validateExit("--no-models --chain " + paper + " --markdown " + md), anyRegressed(a) ? 4 : 0);
+  std::ifstream f(md);
+  std::stringstream table;
+  table << f.rdbuf();
+  EXPECT_NE(table.str().find("| claim (paper) |"), std::string::npos);
+  EXPECT_NE(table.str().find("chain.kbf_impacts_resolved"), std::string::npos);
+  // our-like records: the KB_F claim, recorded as agreeing, differs
+  const auto b = chainClaims(cfg, ours_rec, &paper_rec);
+  ASSERT_TRUE(find(b, "chain.kbf_impacts_resolved").regressed());
+  EXPECT_EQ(validateExit("--no-models --chain " + ours + " --chain-winkler " + paper), 4);
+}
