@@ -101,7 +101,10 @@ void reportStartFailure(const std::string& node, const std::string& message) {
   status.message = message;
   array.status.push_back(status);
   publisher.publish(array);
-  ros::WallDuration(1.0).sleep();
+  // A subscriber still connecting gets the latched ERROR once connected (up to 2 s).
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
+  while (publisher.getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.05).sleep();
+  ros::WallDuration(0.5).sleep();
 }
 
 }  // namespace railvib::ros_io

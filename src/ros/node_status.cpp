@@ -30,7 +30,10 @@ void NodeStatus::fail(const std::string& message) {
   failed_ = true;
   ROS_FATAL("%s: %s", name_.c_str(), message.c_str());
   error(message);
-  // Let the ERROR leave before the connections close.
+  // Let the ERROR leave before the connections close: a subscriber to /diagnostics that is still
+  // connecting to this node (a refusal at start-up) gets the latched ERROR once it is connected.
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
+  while (publisher_.getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.05).sleep();
   ros::WallDuration(0.5).sleep();
   ros::shutdown();
 }

@@ -388,6 +388,12 @@ def cases():
     return C
 
 
+def connected(publisher, caller_id):
+    """Whether the subscriber node caller_id is connected to publisher (rospy keeps the subscriber's
+    caller id as the endpoint id of the connection)."""
+    return any(getattr(c, "endpoint_id", None) == caller_id for c in list(publisher.impl.connections))
+
+
 def run_case(h, sc, index, case):
     node, title, layouts, blocks, expected, fragment = case
     exe, status_name, inputs, needs, params = NODES[node]
@@ -408,15 +414,18 @@ def run_case(h, sc, index, case):
         if title == "existing bag":
             bag.write_bytes(b"an earlier run's results")
     log = open(h.log_dir / f"{name}.log", "w+")
+    # Before the node starts: a refusal of a latched layout may come before the first block is sent.
+    h.diagnostics = [d for d in h.diagnostics if d[0] != status_name]
     proc = subprocess.Popen([node_binary(exe), f"__name:={name}"], stdout=log, stderr=subprocess.STDOUT, env=h.env,
                             start_new_session=True)
     result = {"group": "node " + node, "case": title, "expected": expected}
     try:
+        # Wait for this node's own subscriptions: the previous case's node may still count as a
+        # connection for a moment, and a block sent to it would be lost (a false "silent").
         deadline = time.time() + STARTUP_S
-        while proc.poll() is None and time.time() < deadline and blocks and any(
-                h.pub[t].get_num_connections() < 1 for t in inputs):
+        while proc.poll() is None and time.time() < deadline and blocks and not all(
+                connected(h.pub[t], "/" + name) for t in inputs):
             time.sleep(0.05)
-        h.diagnostics = [d for d in h.diagnostics if d[0] != status_name]
         for topic, build in blocks:
             if proc.poll() is not None:
                 break
