@@ -44,6 +44,7 @@ TYPES = {
     names.SURFACE_POINTS: "railvib/PointLayout",
     names.BUILDING_POINTS: "railvib/PointLayout",
     names.SURFACE_SNAPSHOT: "railvib/SurfaceSnapshot",
+    names.SECTION_SNAPSHOT: "railvib/SectionSnapshot",
     names.SENSOR_METRICS: "railvib/VibrationMetrics",
     names.RECORDING_STATUS: "std_msgs/String",
     "/tf": "tf2_msgs/TFMessage",

@@ -87,4 +87,11 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
   return h;
 }
 
+std::vector<soil::RigidBodySpec> attachedBodies(const ConfigNode& root, const soil::SoilParams& soil_params) {
+  if (!root.has("building")) return {};
+  const building::BuildingModel house(building::loadBuildingParams(root));
+  if (house.params().coupling != building::SoilCoupling::TwoWay) return {};
+  return {houseFoundation(root, house, soil_params).body};
+}
+
 }  // namespace railvib::coupling

@@ -14,7 +14,8 @@ const std::vector<std::pair<std::string, std::string>>& launchArgumentKeys() {
   static const std::vector<std::pair<std::string, std::string>> keys{{"speed", "simulation.speed_m_s"},
                                                                      {"duration", "simulation.duration_s"},
                                                                      {"foundation", "track.foundation.model"},
-                                                                     {"track", "simulation.vehicle_track"}};
+                                                                     {"track", "simulation.vehicle_track"},
+                                                                     {"coupling", "building.coupling"}};
   return keys;
 }
 

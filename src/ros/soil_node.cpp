@@ -7,6 +7,7 @@
 #include "railvib/building/params.hpp"
 #include "railvib/common/names.hpp"
 #include "railvib/common/stream_contract.hpp"
+#include "railvib/coupling/house_foundation.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
@@ -20,6 +21,8 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param("include_building_footprint", include_footprint, include_footprint);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   params_ = soil::loadSoilParams(config.root(), houseReceivers(config.root(), include_footprint));
+  // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
+  if (include_footprint) bodies_ = coupling::attachedBodies(config.root(), params_);
   load_sample_rate_hz_ = track::loadTrackParams(config.root()).load_sample_rate_hz;
   limits_ = loadStreamLimits(config.root());
   status_ = std::make_unique<NodeStatus>(nh, "soil", vehicle::loadPassageParams(config.root()).duration_s);
@@ -27,6 +30,9 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
       BlockPublisher<railvib::SurfaceVelocities>(nh, names::kSurfaceVelocitiesTopic, required_subscribers);
   layout_publisher_ = nh.advertise<railvib::PointLayout>(names::kSurfacePointsTopic, 1, true);
   snapshot_publisher_ = nh.advertise<railvib::SurfaceSnapshot>(names::kSurfaceSnapshotTopic, 0);
+  if (params_.section_enabled) {
+    section_publisher_ = nh.advertise<railvib::SectionSnapshot>(names::kSectionSnapshotTopic, 0);
+  }
   layout_subscriber_ = nh.subscribe(names::kSleeperLayoutTopic, 1, &SoilNode::onLayout, this);
   loads_subscriber_ = nh.subscribe(names::kSoilLoadsTopic, 0, &SoilNode::onLoads, this);
 }
@@ -71,7 +77,7 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
                                   formatValue(expected[i]) + " m");
       }
     }
-    model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m, load_sample_rate_hz_);
+    model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m, load_sample_rate_hz_, bodies_);
     ROS_INFO_STREAM("soil: " << model_->summary().dump());
     if (!model_->droppedSleepers().empty()) {
       ROS_WARN("soil: %zu sleeper(s) outside the mesh: their loads are ignored", model_->droppedSleepers().size());
@@ -174,6 +180,21 @@ void SoilNode::publishOutputs(bool end_of_stream) {
     msg.ny = static_cast<uint32_t>(s.ny_nodes);
     msg.vertical_velocity_m_s = s.vz_up_m_s;
     snapshot_publisher_.publish(msg);
+  }
+  sections_.clear();
+  model_->takeSectionSnapshots(sections_);
+  for (const auto& s : sections_) {
+    railvib::SectionSnapshot msg;
+    msg.header.frame_id = names::kTrackFrame;
+    msg.header.stamp = ros::Time(s.time_s);
+    msg.sample_index = s.index;
+    msg.x_m = s.x_m;
+    msg.origin_y_m = s.y0_m;
+    msg.spacing_y_m = s.dy_m;
+    msg.ny = static_cast<uint32_t>(s.ny_nodes);
+    msg.depth_m = s.depth_m;
+    msg.vertical_velocity_m_s = s.vz_up_m_s;
+    section_publisher_.publish(msg);
   }
 }
 

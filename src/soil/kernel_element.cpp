@@ -142,7 +142,7 @@ std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, cons
     case KernelKind::Element:
       return std::make_unique<ElementKernel<Real>>(mesh, box, threads);
     case KernelKind::Stencil:
-      break;
+      return makeStencilKernel<Real>(mesh, box, threads);
   }
   throw std::invalid_argument("soil kernel '" + kernelName(kind) + "' is not available");
 }

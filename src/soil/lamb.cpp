@@ -157,9 +157,9 @@ LambResult runLamb(const LambSpec& spec) {
   const size_t nz = static_cast<size_t>(std::llround(spec.depth_m / spec.h_m));
   std::vector<double> z(nz + 1);
   for (size_t k = 0; k <= nz; ++k) z[k] = spec.h_m * static_cast<double>(k);
-  const SolverOptions o =
-      quarterModelOptions(spec.precision, {spec.absorbing_layer_m, spec.absorbing_layer_alpha_1_s,
-                                           spec.absorbing_layer_exponent, spec.absorbing_layer_bottom});
+  SolverOptions o = quarterModelOptions(spec.precision, {spec.absorbing_layer_m, spec.absorbing_layer_alpha_1_s,
+                                                         spec.absorbing_layer_exponent, spec.absorbing_layer_bottom});
+  o.kernel = spec.kernel;
   Solver s(buildUniformMesh(n, n, spec.h_m, spec.h_m, z, std::vector<Material>(nz, spec.material)), o);
   addVerticalPointLoadAtOrigin(s);
   const double rmax = *std::max_element(spec.distances_m.begin(), spec.distances_m.end());

@@ -40,6 +40,7 @@ ColumnRun columnRun(const ColumnSpec& s, bool pulse, double t_end) {
   o.absorbing.bottom = true;
   o.lateral_rollers = true;
   o.precision = s.precision;
+  o.kernel = s.kernel;
   o.threads = 1;
   Solver solver(std::move(mesh), o);
   const auto& m = solver.mesh();
@@ -228,37 +229,211 @@ DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz,
   return r;
 }
 
-ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps) {
+namespace {
+
+double cpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
+}
+
+double medianOf(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// A kernel of the solver's kind, mesh, box and threads on its own random fields: the kernel without the step.
+struct KernelTimer {
+  virtual ~KernelTimer() = default;
+  virtual double secondsFor(int applications) = 0;
+  virtual double multiplyAdds() const = 0;
+};
+
+template <class Real>
+struct KernelTimerT final : KernelTimer {
+  KernelTimerT(const Solver& s, KernelKind kind, int threads)
+      : kernel(makeStiffnessKernel<Real>(kind, s.mesh(), s.kernelElements(), threads)) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<Real> dist(-1e-4, 1e-4);
+    for (int c = 0; c < 3; ++c) {
+      w[c].resize(s.mesh().nodeCount());
+      for (Real& x : w[c]) x = dist(rng);
+      f[c].assign(s.mesh().nodeCount(), 0);
+    }
+  }
+  double secondsFor(int applications) override {
+    const Real* in[3] = {w[0].data(), w[1].data(), w[2].data()};
+    Real* out[3] = {f[0].data(), f[1].data(), f[2].data()};
+    const double t0 = omp_get_wtime();
+    for (int a = 0; a < applications; ++a) kernel->apply(in, out);
+    return omp_get_wtime() - t0;
+  }
+  double multiplyAdds() const override { return kernel->multiplyAddsPerApply(); }
+  std::unique_ptr<StiffnessKernel<Real>> kernel;
+  std::vector<Real> w[3], f[3];
+};
+
+}  // namespace
+
+std::vector<ThroughputResult> runThroughput(const ThroughputSpec& spec) {
+  if (spec.kernels.empty() || spec.steps < 1 || spec.repeat < 1)
+    throw std::invalid_argument("throughput: nothing to run");
   const Material mat{61.0e6, 1876.0, 0.13};
   const double h = 0.3;
-  std::vector<double> z(nz + 1);
-  for (size_t k = 0; k <= nz; ++k) z[k] = h * static_cast<double>(k);
-  SolverOptions o;
-  o.precision = precision;
-  o.threads = threads;
-  o.rayleigh_beta_s = 4e-4;
-  Solver s(buildUniformMesh(nx, ny, h, h, z, std::vector<Material>(nz, mat)), o);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> dist(-1e-4, 1e-4);
-  for (size_t i = 0; i < s.mesh().nodeCount(); i += 7) s.setDisplacement(i, static_cast<int>(i % 3), dist(rng));
-  s.run(2);
-  auto cpu = []() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
-  };
-  const double c0 = cpu();
-  const double t0 = omp_get_wtime();
-  s.run(static_cast<uint64_t>(steps));
-  const double el = omp_get_wtime() - t0;
-  const double cpu_s = cpu() - c0;
-  ThroughputResult r;
-  r.elements = s.mesh().elementCount();
-  r.threads = threads;
-  r.seconds_per_step = el / steps;
-  r.element_updates_per_s = static_cast<double>(r.elements) * steps / el;
-  r.element_updates_per_cpu_s = static_cast<double>(r.elements) * steps / cpu_s;
-  return r;
+  std::vector<double> z(spec.nz + 1);
+  for (size_t k = 0; k <= spec.nz; ++k) z[k] = h * static_cast<double>(k);
+  const StructuredMesh mesh = buildUniformMesh(spec.nx, spec.ny, h, h, z, std::vector<Material>(spec.nz, mat));
+  std::vector<std::unique_ptr<Solver>> solvers;
+  std::vector<std::unique_ptr<KernelTimer>> timers;
+  for (KernelKind kind : spec.kernels) {
+    SolverOptions o;
+    o.precision = spec.precision;
+    o.threads = spec.threads;
+    o.rayleigh_beta_s = 4e-4;
+    o.kernel = kind;
+    solvers.push_back(std::make_unique<Solver>(mesh, o));
+    Solver& s = *solvers.back();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> dist(-1e-4, 1e-4);
+    for (size_t i = 0; i < s.mesh().nodeCount(); i += 7) s.setDisplacement(i, static_cast<int>(i % 3), dist(rng));
+    s.run(2);
+    if (spec.precision == Precision::Float) {
+      timers.push_back(std::make_unique<KernelTimerT<float>>(s, kind, spec.threads));
+    } else {
+      timers.push_back(std::make_unique<KernelTimerT<double>>(s, kind, spec.threads));
+    }
+    timers.back()->secondsFor(2);
+  }
+  const size_t nk = spec.kernels.size();
+  const double updates = static_cast<double>(mesh.elementCount()) * spec.steps;
+  std::vector<std::vector<double>> rate(nk), cpu_rate(nk), step_s(nk), kernel_s(nk), step_ratio(nk), kernel_ratio(nk),
+      step_cpu_s(nk), kernel_cpu_s(nk);
+  for (int rep = 0; rep < spec.repeat; ++rep) {
+    // The kernels in turn, so that each repeat compares them at the same load of the machine.
+    for (size_t q = 0; q < nk; ++q) {
+      const double c0 = cpuSeconds(), t0 = omp_get_wtime();
+      solvers[q]->run(static_cast<uint64_t>(spec.steps));
+      const double el = omp_get_wtime() - t0, cpu_s = cpuSeconds() - c0;
+      const double kc0 = cpuSeconds();
+      const double kern = timers[q]->secondsFor(spec.steps);
+      kernel_cpu_s[q].push_back((cpuSeconds() - kc0) / spec.steps);
+      step_cpu_s[q].push_back(cpu_s / spec.steps);
+      rate[q].push_back(updates / el);
+      cpu_rate[q].push_back(updates / cpu_s);
+      step_s[q].push_back(el / spec.steps);
+      kernel_s[q].push_back(kern / spec.steps);
+      step_ratio[q].push_back(step_s[0].back() / step_s[q].back());
+      kernel_ratio[q].push_back(kernel_s[0].back() / kernel_s[q].back());
+    }
+  }
+  std::vector<ThroughputResult> out;
+  for (size_t q = 0; q < nk; ++q) {
+    ThroughputResult r;
+    r.kernel = spec.kernels[q];
+    r.elements = mesh.elementCount();
+    r.threads = spec.threads;
+    r.element_updates_per_s = medianOf(rate[q]);
+    r.element_updates_per_cpu_s = medianOf(cpu_rate[q]);
+    r.min_element_updates_per_s = *std::min_element(rate[q].begin(), rate[q].end());
+    r.max_element_updates_per_s = *std::max_element(rate[q].begin(), rate[q].end());
+    r.seconds_per_step = medianOf(step_s[q]);
+    r.kernel_seconds_per_apply = medianOf(kernel_s[q]);
+    r.cpu_seconds_per_step = medianOf(step_cpu_s[q]);
+    r.kernel_cpu_seconds_per_apply = medianOf(kernel_cpu_s[q]);
+    r.kernel_element_updates_per_s = static_cast<double>(mesh.elementCount()) / r.kernel_seconds_per_apply;
+    r.multiply_adds_per_step = timers[q]->multiplyAdds();
+    r.kernel_gflop_s = 2.0 * r.multiply_adds_per_step / r.kernel_seconds_per_apply * 1e-9;
+    r.step_ratio_to_first = medianOf(step_ratio[q]);
+    r.kernel_ratio_to_first = medianOf(kernel_ratio[q]);
+    out.push_back(r);
+  }
+  return out;
+}
+
+namespace {
+
+// kChains independent chains acc = acc * a + b of one native vector each: enough to fill the FMA pipes
+// (2 pipes x 4 cycles latency on current cores). Returns the lane sum, so that nothing is optimised away.
+template <class Real, size_t kBytes, int kChains>
+inline __attribute__((always_inline)) double fmaChains(long iterations) {
+  typedef Real Vec __attribute__((vector_size(kBytes)));
+  Vec acc[kChains];
+  for (int c = 0; c < kChains; ++c) acc[c] = Vec{} + static_cast<Real>(1e-3 * c);
+  const Vec a = Vec{} + static_cast<Real>(0.999999), b = Vec{} + static_cast<Real>(1e-7);
+  for (long it = 0; it < iterations; ++it) {
+#pragma GCC unroll 16
+    for (int c = 0; c < kChains; ++c) acc[c] = acc[c] * a + b;
+  }
+  double sum = 0.0;
+  for (int c = 0; c < kChains; ++c) {
+    for (size_t l = 0; l < kBytes / sizeof(Real); ++l) sum += static_cast<double>(acc[c][l]);
+  }
+  return sum;
+}
+
+__attribute__((target("avx512f"))) double fmaAvx512(bool dbl, long it) {
+  return dbl ? fmaChains<double, 64, 16>(it) : fmaChains<float, 64, 16>(it);
+}
+__attribute__((target("avx2,fma"))) double fmaAvx2(bool dbl, long it) {
+  return dbl ? fmaChains<double, 32, 12>(it) : fmaChains<float, 32, 12>(it);
+}
+double fmaSse2(bool dbl, long it) { return dbl ? fmaChains<double, 16, 12>(it) : fmaChains<float, 16, 12>(it); }
+
+}  // namespace
+
+FmaPeak measureFmaPeak(Precision precision, int threads, int repeat) {
+  const bool dbl = precision == Precision::Double;
+  const size_t real = dbl ? sizeof(double) : sizeof(float);
+  __builtin_cpu_init();
+  double (*loop)(bool, long) = fmaSse2;
+  FmaPeak peak;
+  size_t bytes = 16;
+  int chains = 12;
+  peak.instruction_set = "sse2 (mul + add)";
+  if (__builtin_cpu_supports("avx512f")) {
+    loop = fmaAvx512;
+    bytes = 64;
+    chains = 16;
+    peak.instruction_set = "avx512f";
+  } else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    loop = fmaAvx2;
+    bytes = 32;
+    peak.instruction_set = "avx2+fma";
+  }
+  const double flops_per_it = 2.0 * chains * static_cast<double>(bytes / real);
+  volatile double sink = 0.0;
+  // About 0.1 s per run at the calibrated rate.
+  long iterations = 1000000;
+  {
+    const double t0 = omp_get_wtime();
+    sink = sink + loop(dbl, iterations);
+    const double el = omp_get_wtime() - t0;
+    iterations = std::max(1000000L, static_cast<long>(0.1 * iterations / std::max(el, 1e-6)));
+  }
+  std::vector<double> rates;
+  for (int rep = 0; rep < repeat; ++rep) {
+    double el = 0.0;
+    int team = 1;
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp barrier
+      const double t0 = omp_get_wtime();
+      const double v = loop(dbl, iterations);
+#pragma omp barrier
+#pragma omp master
+      {
+        el = omp_get_wtime() - t0;
+        team = omp_get_num_threads();
+      }
+#pragma omp critical
+      sink = sink + v;
+    }
+    rates.push_back(flops_per_it * static_cast<double>(iterations) * team / el * 1e-9);
+  }
+  peak.threads = threads;
+  peak.gflop_s = medianOf(rates);
+  peak.per_core_gflop_s = peak.gflop_s / threads;
+  return peak;
 }
 
 }  // namespace railvib::soil

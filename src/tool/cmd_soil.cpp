@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <vector>
@@ -27,11 +28,6 @@ namespace {
 
 using nlohmann::json;
 using namespace railvib::soil;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 // ---------------------------------------------------------------- soil-bench cases
 // Each case reads its options from the parsed arguments and fills the JSON summary. To add a case:
@@ -115,34 +111,91 @@ void benchDamping(const BenchArgs& a, json& out) {
 }
 
 void benchThroughput(const BenchArgs& a, json& out) {
-  const size_t nx = static_cast<size_t>(a.p.getInt("nx")), ny = static_cast<size_t>(a.p.getInt("ny")),
-               nz = static_cast<size_t>(a.p.getInt("nz"));
-  const int steps = static_cast<int>(a.p.getInt("steps")), repeat = static_cast<int>(a.p.getInt("repeat"));
+  ThroughputSpec spec;
+  spec.nx = static_cast<size_t>(a.p.getInt("nx"));
+  spec.ny = static_cast<size_t>(a.p.getInt("ny"));
+  spec.nz = static_cast<size_t>(a.p.getInt("nz"));
+  spec.steps = static_cast<int>(a.p.getInt("steps"));
+  spec.repeat = static_cast<int>(a.p.getInt("repeat"));
+  spec.kernels.clear();
+  std::stringstream kernels(a.p.get("kernel"));
+  for (std::string item; std::getline(kernels, item, ',');) spec.kernels.push_back(kernelFromName(item));
+  if (spec.kernels.empty()) throw ArgError("soil-bench: --kernel needs at least one kernel");
+  const std::string first = kernelName(spec.kernels.front());
+  std::ostringstream table;
+  table << "precision kernel  threads | M el/s wall  per CPU s  per core | step ms  kernel ms  rest of step (CPU)"
+        << " | kernel GFLOP/s  of peak | x " << first << " (step, kernel)\n";
   for (Precision pr : a.precisions) {
+    const std::string pname = precisionName(pr);
     json jp;
-    double one = 0.0;
+    const std::vector<FmaPeak> peaks{measureFmaPeak(pr, 1), measureFmaPeak(pr, 2)};
+    jp["fma_peak"] = {{"instruction_set", peaks[0].instruction_set},
+                      {"gflop_s_1_thread", peaks[0].gflop_s},
+                      {"gflop_s_2_threads", peaks[1].gflop_s}};
+    std::vector<std::vector<ThroughputResult>> by_threads;
     for (int threads : {1, 2}) {
-      std::vector<double> rates, cpu_rates;
-      for (int rep = 0; rep < repeat; ++rep) {
-        const ThroughputResult r = runThroughput(nx, ny, nz, threads, pr, steps);
-        rates.push_back(r.element_updates_per_s);
-        cpu_rates.push_back(r.element_updates_per_cpu_s);
-      }
-      const double med = median(rates);
-      if (threads == 1) one = med;
-      jp["threads_" + std::to_string(threads)] = {{"median_element_updates_per_s", med},
-                                                  {"per_core", med / threads},
-                                                  {"median_per_cpu_second", median(cpu_rates)},
-                                                  {"min", *std::min_element(rates.begin(), rates.end())},
-                                                  {"max", *std::max_element(rates.begin(), rates.end())}};
-      if (threads == 2) jp["speedup_2_cores"] = med / one;
+      spec.threads = threads;
+      spec.precision = pr;
+      by_threads.push_back(runThroughput(spec));
     }
-    out[precisionName(pr)] = jp;
+    for (size_t q = 0; q < spec.kernels.size(); ++q) {
+      json jk;
+      for (size_t t = 0; t < by_threads.size(); ++t) {
+        const ThroughputResult& r = by_threads[t][q];
+        const double peak = peaks[t].gflop_s;
+        jk["threads_" + std::to_string(r.threads)] = {
+            {"median_element_updates_per_s", r.element_updates_per_s},
+            {"per_core", r.element_updates_per_s / r.threads},
+            {"median_per_cpu_second", r.element_updates_per_cpu_s},
+            {"min", r.min_element_updates_per_s},
+            {"max", r.max_element_updates_per_s},
+            {"step_seconds", r.seconds_per_step},
+            {"kernel_seconds", r.kernel_seconds_per_apply},
+            {"rest_of_step_fraction", 1.0 - r.kernel_seconds_per_apply / r.seconds_per_step},
+            {"cpu_seconds_per_step", r.cpu_seconds_per_step},
+            {"kernel_cpu_seconds", r.kernel_cpu_seconds_per_apply},
+            {"rest_of_step_fraction_cpu", 1.0 - r.kernel_cpu_seconds_per_apply / r.cpu_seconds_per_step},
+            {"kernel_element_updates_per_s", r.kernel_element_updates_per_s},
+            {"multiply_adds_per_step", r.multiply_adds_per_step},
+            {"kernel_gflop_s", r.kernel_gflop_s},
+            {"kernel_fraction_of_fma_peak", r.kernel_gflop_s / peak},
+            {"step_ratio_to_" + first, r.step_ratio_to_first},
+            {"kernel_ratio_to_" + first, r.kernel_ratio_to_first}};
+        table << std::left << std::setw(10) << pname << std::setw(8) << kernelName(r.kernel) << std::setw(8)
+              << r.threads << std::right << std::fixed << std::setprecision(1) << "| " << std::setw(11)
+              << r.element_updates_per_s / 1e6 << std::setw(11) << r.element_updates_per_cpu_s / 1e6 << std::setw(10)
+              << r.element_updates_per_s / 1e6 / r.threads << " | " << std::setprecision(2) << std::setw(7)
+              << 1e3 * r.seconds_per_step << std::setw(11) << 1e3 * r.kernel_seconds_per_apply << std::setw(11)
+              << std::setprecision(0) << 100.0 * (1.0 - r.kernel_seconds_per_apply / r.seconds_per_step) << " % ("
+              << 100.0 * (1.0 - r.kernel_cpu_seconds_per_apply / r.cpu_seconds_per_step) << " % CPU)"
+              << " | " << std::setprecision(1) << std::setw(14) << r.kernel_gflop_s << std::setw(7)
+              << std::setprecision(0) << 100.0 * r.kernel_gflop_s / peak << " % | " << std::setprecision(2)
+              << r.step_ratio_to_first << ", " << r.kernel_ratio_to_first << "\n";
+      }
+      const ThroughputResult &one = by_threads[0][q], &two = by_threads[1][q];
+      jk["speedup_2_cores"] = two.element_updates_per_s / one.element_updates_per_s;
+      jk["kernel_speedup_2_cores"] = one.kernel_seconds_per_apply / two.kernel_seconds_per_apply;
+      table << std::left << std::setw(10) << pname << std::setw(8) << kernelName(one.kernel) << "2-core speed-up "
+            << std::setprecision(2) << jk["speedup_2_cores"].get<double>() << " (kernel alone "
+            << jk["kernel_speedup_2_cores"].get<double>() << ")\n"
+            << std::right;
+      jp[kernelName(one.kernel)] = jk;
+    }
+    table << pname << " FMA peak (" << peaks[0].instruction_set << "): " << std::setprecision(1) << peaks[0].gflop_s
+          << " GFLOP/s 1 thread, " << peaks[1].gflop_s << " GFLOP/s 2 threads\n";
+    out[pname] = jp;
   }
-  out["elements"] = nx * ny * nz;
+  out["elements"] = spec.nx * spec.ny * spec.nz;
+  out["steps"] = spec.steps;
+  out["repeat"] = spec.repeat;
   out["note"] =
-      "medians over repeats; the machine is shared, wall-clock figures are noisy; per_cpu_second = element "
-      "updates per CPU second actually given to the process (user + sys over all threads)";
+      "medians over repeats, the kernels alternating within each repeat; ratios are medians of the ratios of the "
+      "same repeat; the machine is shared, wall-clock figures are noisy; per_cpu_second = element updates per CPU "
+      "second actually given to the process (user + sys over all threads); kernel_* = the kernel alone on the "
+      "same mesh and box; rest_of_step = nodal update (and loads) = 1 - kernel / step; GFLOP/s count 2 flops "
+      "per multiply-add; fma_peak from a register-only FMA loop in the widest vectors";
+  // The table goes to stderr so that stdout stays one JSON document.
+  std::cerr << table.str();
 }
 
 void benchReflection(const BenchArgs& a, json& out) {
@@ -302,6 +355,8 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("nz", "throughput: elements in depth", "30");
   p.option("steps", "throughput: steps per measurement", "20");
   p.option("repeat", "throughput: measurements (median reported)", "5");
+  p.option("kernel", "throughput: stiffness kernels side by side, comma-separated (element | stencil)",
+           "element,stencil");
   p.option("precision", "float | double | both", "both");
   p.option("small-box", "reflection: half width and depth of the small box (m)", "8");
   p.option("layer", "reflection: absorbing layer thicknesses (m), comma-separated", "4");
@@ -413,14 +468,7 @@ int soilRun(const std::vector<std::string>& args) {
 
   const auto wall0 = std::chrono::steady_clock::now();
   // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
-  std::vector<RigidBodySpec> bodies;
-  if (cfg.root().has("building")) {
-    const building::BuildingModel house(building::loadBuildingParams(cfg.root()));
-    if (house.params().coupling == building::SoilCoupling::TwoWay) {
-      bodies.push_back(coupling::houseFoundation(cfg.root(), house, params).body);
-    }
-  }
-  SoilModel model(params, sleeper_x, rate, bodies);
+  SoilModel model(params, sleeper_x, rate, coupling::attachedBodies(cfg.root(), params));
   nlohmann::json summary = model.summary();
   std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
             << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()

@@ -36,6 +36,7 @@ inline constexpr const char* kSleeperLayoutTopic = "sleeper_layout";
 inline constexpr const char* kSurfacePointsTopic = "surface_points";
 inline constexpr const char* kBuildingPointsTopic = "building_points";
 inline constexpr const char* kSurfaceSnapshotTopic = "surface_snapshot";
+inline constexpr const char* kSectionSnapshotTopic = "section_snapshot";
 inline constexpr const char* kSensorMetricsTopic = "sensor_metrics";
 inline constexpr const char* kDiagnosticsTopic = "/diagnostics";
 inline constexpr const char* kTfTopic = "/tf";

@@ -13,6 +13,8 @@
 // q_building = D q_soil with D = diag(1, 1, -1, -1, -1, 1).
 #pragma once
 
+#include <vector>
+
 #include "railvib/building/model.hpp"
 #include "railvib/building/reduction.hpp"
 #include "railvib/common/config.hpp"
@@ -33,5 +35,9 @@ struct HouseFoundation {
 /// of the track's sleepers) and the mode cut-off, and refuses with the key path (ConfigError).
 HouseFoundation houseFoundation(const ConfigNode& root, const building::BuildingModel& model,
                                 const soil::SoilParams& soil_params);
+
+/// The rigid bodies the soil carries for a scenario: the house's foundation when the scenario has a
+/// house and building.coupling is two_way, else none.
+std::vector<soil::RigidBodySpec> attachedBodies(const ConfigNode& root, const soil::SoilParams& soil_params);
 
 }  // namespace railvib::coupling

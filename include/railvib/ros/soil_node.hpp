@@ -2,7 +2,10 @@
 // SleeperLayout), advances the soil model (railvib::soil::SoilModel) as far
 // as the loads received allow (it may run behind them; it never drops any),
 // publishes SurfaceVelocities blocks at the receivers with their latched
-// PointLayout (`surface_points`) and decimated SurfaceSnapshot messages.
+// PointLayout (`surface_points`), decimated SurfaceSnapshot messages and, with
+// soil.output.section, SectionSnapshot messages of a vertical plane. With
+// building.coupling two_way the house's foundation is part of the soil model
+// (coupling/house_foundation.hpp): the footprint receivers then carry its motion.
 #pragma once
 
 #include <ros/ros.h>
@@ -11,6 +14,7 @@
 
 #include "railvib/SleeperLayout.h"
 #include "railvib/SoilLoads.h"
+#include "railvib/SectionSnapshot.h"
 #include "railvib/SurfaceSnapshot.h"
 #include "railvib/SurfaceVelocities.h"
 #include "railvib/common/stream_contract.hpp"
@@ -41,12 +45,14 @@ class SoilNode {
   double load_sample_rate_hz_ = 0.0;
   StreamLimits limits_;
   BlockPublisher<railvib::SurfaceVelocities> velocity_publisher_;
-  ros::Publisher layout_publisher_, snapshot_publisher_;
+  ros::Publisher layout_publisher_, snapshot_publisher_, section_publisher_;
+  std::vector<soil::RigidBodySpec> bodies_;  // attached to the soil model (a two-way house's foundation)
   ros::Subscriber layout_subscriber_, loads_subscriber_;
   std::unique_ptr<NodeStatus> status_;
   soil::ReceiverBlock receivers_;
   LayoutGate gate_;  // loads wait for the sleeper layout
   std::vector<soil::SurfaceSnapshot> snapshots_;
+  std::vector<soil::SectionSnapshot> sections_;
   uint64_t next_velocity_index_ = 0;
   bool ended_ = false;
 };

@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "railvib/soil/mesh.hpp"
 
@@ -21,7 +22,7 @@ namespace railvib::soil {
 enum class KernelKind {
   /// Element by element: per element a 24 x 24 product, then a scatter to its 8 nodes.
   Element,
-  /// Node by node: the assembled operator as a 27-point stencil of 3 x 3 blocks.
+  /// Node by node: the assembled operator as a 27-point stencil of 3 x 3 blocks per node plane.
   Stencil,
 };
 
@@ -45,5 +46,13 @@ class StiffnessKernel {
 template <class Real>
 std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, const StructuredMesh& mesh,
                                                            const ElementBox& box, int threads);
+
+/// The KernelKind::Stencil kernel (kernel_stencil.cpp); makeStiffnessKernel dispatches to it with the widest
+/// instruction set of the CPU. `instruction_set` (one of stencilInstructionSets()) forces another (tests).
+template <class Real>
+std::unique_ptr<StiffnessKernel<Real>> makeStencilKernel(const StructuredMesh& mesh, const ElementBox& box, int threads,
+                                                         const std::string& instruction_set = "");
+/// The stencil kernel's code paths this CPU can run, widest first: "avx512f", "avx2+fma", "sse2".
+std::vector<std::string> stencilInstructionSets();
 
 }  // namespace railvib::soil

@@ -65,6 +65,7 @@ struct LambSpec {
   double absorbing_layer_exponent = 2.0;
   bool absorbing_layer_bottom = true;
   Precision precision = Precision::Float;
+  KernelKind kernel = KernelKind::Element;
 };
 
 struct LambStation {

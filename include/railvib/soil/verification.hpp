@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "railvib/soil/kernel.hpp"
 #include "railvib/soil/mesh.hpp"
 #include "railvib/soil/solver.hpp"
 
@@ -22,6 +23,7 @@ struct ColumnSpec {
   double rise_s = 0.01;
   double receiver_depth_m = 10.0;
   Precision precision = Precision::Float;
+  KernelKind kernel = KernelKind::Element;
 };
 
 struct ColumnResult {
@@ -50,14 +52,47 @@ struct DampingDecayResult {
 };
 DampingDecayResult runDampingDecay(double f_hz, double beta_s, double cutoff_hz, Precision precision);
 
+/// Side-by-side timing of stiffness kernels on one homogeneous box with Lysmer faces and Rayleigh damping:
+/// for every repeat each kernel in turn runs `steps` solver steps, then `steps` applications of the kernel
+/// alone (same mesh and box), so that the kernels see the same machine load.
+struct ThroughputSpec {
+  size_t nx = 160, ny = 80, nz = 30;
+  int threads = 1;
+  Precision precision = Precision::Float;
+  int steps = 20;
+  int repeat = 5;
+  std::vector<KernelKind> kernels{KernelKind::Element, KernelKind::Stencil};
+};
+
+/// One kernel's figures: medians over the repeats.
 struct ThroughputResult {
+  KernelKind kernel = KernelKind::Element;
   size_t elements = 0;
   int threads = 0;
-  double element_updates_per_s = 0.0;      // wall clock
+  double element_updates_per_s = 0.0;      // whole solver steps, wall clock
   double element_updates_per_cpu_s = 0.0;  // per CPU second of the process (user + sys, all threads)
-  double seconds_per_step = 0.0;
+  double min_element_updates_per_s = 0.0, max_element_updates_per_s = 0.0;
+  double seconds_per_step = 0.0;          // whole solver step (kernel + nodal update)
+  double kernel_seconds_per_apply = 0.0;  // the kernel alone
+  double cpu_seconds_per_step = 0.0;      // CPU time (all threads) of a whole step
+  double kernel_cpu_seconds_per_apply = 0.0;
+  double kernel_element_updates_per_s = 0.0;
+  double multiply_adds_per_step = 0.0;  // StiffnessKernel::multiplyAddsPerApply
+  double kernel_gflop_s = 0.0;          // 2 flops per multiply-add, kernel alone
+  /// Step rate / the first kernel's, median of the ratios of the same repeat.
+  double step_ratio_to_first = 1.0;
+  double kernel_ratio_to_first = 1.0;
 };
-/// Time `steps` steps of an nx x ny x nz homogeneous box with Lysmer faces.
-ThroughputResult runThroughput(size_t nx, size_t ny, size_t nz, int threads, Precision precision, int steps);
+std::vector<ThroughputResult> runThroughput(const ThroughputSpec& spec);
+
+/// Fused multiply-add peak of this machine (independent register FMAs in the widest vectors the stiffness
+/// kernels use), GFLOP/s (2 flops per FMA), with `threads` threads, median of `repeat` runs of ~0.1 s.
+struct FmaPeak {
+  std::string instruction_set;  // "avx512f", "avx2+fma" or "sse2 (mul + add)"
+  int threads = 1;
+  double gflop_s = 0.0;  // all threads
+  double per_core_gflop_s = 0.0;
+};
+FmaPeak measureFmaPeak(Precision precision, int threads, int repeat = 5);
 
 }  // namespace railvib::soil

@@ -41,6 +41,7 @@ TEST(Names, PythonMirrorAgrees) {
       {"SURFACE_POINTS", std::string("/") + names::kSurfacePointsTopic},
       {"BUILDING_POINTS", std::string("/") + names::kBuildingPointsTopic},
       {"SURFACE_SNAPSHOT", std::string("/") + names::kSurfaceSnapshotTopic},
+      {"SECTION_SNAPSHOT", std::string("/") + names::kSectionSnapshotTopic},
       {"SENSOR_METRICS", std::string("/") + names::kSensorMetricsTopic},
       {"SITE_MARKERS", std::string("/") + names::kSiteMarkersTopic},
       {"SURFACE_CLOUD", std::string("/") + names::kSurfaceCloudTopic},

@@ -76,11 +76,12 @@ int twoThreadTeamSize() {
 
 // A deterministic load: two surface patches (off-centre, so nothing is symmetric)
 // driven by a Hann-windowed 40 Hz burst and a 15 Hz ramped sine.
-RunResult run(int threads, Precision precision) {
+RunResult run(int threads, Precision precision, KernelKind kernel = KernelKind::Element) {
   SolverOptions o;
   o.threads = threads;
   o.precision = precision;
-  o.rayleigh_beta_s = 4.0e-4;  // exercise the damping filter path too
+  o.kernel = kernel;
+  o.rayleigh_beta_s = 4.0e-4;                       // exercise the damping filter path too
   o.boundary.method = BoundaryMethod::GradedLayer;  // and the absorbing layer (sides, not the bottom)
   o.boundary.graded_layer = {2.0, 60.0, 1.0, false};
   Solver s(layeredMesh(), o);
@@ -202,4 +203,44 @@ TEST(SoilThreads, OneAndTwoThreadsAgreeWithinRoundOff) {
        {std::tuple{&t1.final_u, &t2.final_u, &dbl.final_u}, std::tuple{&t1.final_v, &t2.final_v, &dbl.final_v}}) {
     EXPECT_LE(maxAbsDiff(*a, *b), kSteps * std::ldexp(1.0, -24) * maxAbs(*r));
   }
+}
+
+// The stencil kernel computes every node as one sum in a fixed order, whatever the thread count, and the
+// node update is elementwise: the whole solver gives the same bits with 1 and 2 threads.
+TEST(SoilThreads, StencilKernelRunsAreBitwiseIdenticalForOneAndTwoThreads) {
+  ASSERT_EQ(twoThreadTeamSize(), 2) << "the OpenMP runtime does not give 2 threads (OMP_THREAD_LIMIT?)";
+  const RunResult a = run(2, Precision::Float, KernelKind::Stencil);
+  const RunResult b = run(2, Precision::Float, KernelKind::Stencil);
+  const RunResult one = run(1, Precision::Float, KernelKind::Stencil);
+  ASSERT_GT(maxAbs(a.surface_history), 0.0);
+  expectBitwiseEqual(a.surface_history, b.surface_history, "stencil, surface velocity history, threads 2 vs 2");
+  expectBitwiseEqual(a.final_u, b.final_u, "stencil, final displacement, threads 2 vs 2");
+  expectBitwiseEqual(a.final_v, b.final_v, "stencil, final velocity, threads 2 vs 2");
+  expectBitwiseEqual(a.surface_history, one.surface_history, "stencil, surface velocity history, threads 2 vs 1");
+  expectBitwiseEqual(a.final_u, one.final_u, "stencil, final displacement, threads 2 vs 1");
+  expectBitwiseEqual(a.final_v, one.final_v, "stencil, final velocity, threads 2 vs 1");
+}
+
+// Stencil and element kernels are the same operator summed in another order: their float runs differ by
+// round-off only, within the bound of OneAndTwoThreadsAgreeWithinRoundOff (kSteps u peak), and the double
+// runs agree to ~1e-12 of the peak.
+TEST(SoilThreads, StencilAndElementKernelRunsAgreeWithinRoundOff) {
+  const RunResult& element = twoThreadRun();
+  const RunResult stencil = run(2, Precision::Float, KernelKind::Stencil);
+  const RunResult dbl_element = run(1, Precision::Double, KernelKind::Element);
+  const RunResult dbl_stencil = run(1, Precision::Double, KernelKind::Stencil);
+  const double peak = maxAbs(dbl_element.surface_history);
+  ASSERT_GT(peak, 0.0);
+  const double tol = kSteps * std::ldexp(1.0, -24) * peak;
+  const double d_float = maxAbsDiff(element.surface_history, stencil.surface_history);
+  const double d_stencil = maxAbsDiff(stencil.surface_history, dbl_element.surface_history);
+  const double d_double = maxAbsDiff(dbl_element.surface_history, dbl_stencil.surface_history);
+  std::printf(
+      "max |diff| / peak: float stencil vs element %.2e, float stencil vs double %.2e, double stencil vs element "
+      "%.2e (float tolerance %.2e)\n",
+      d_float / peak, d_stencil / peak, d_double / peak, tol / peak);
+  EXPECT_LE(d_float, tol) << "float, stencil vs element kernel";
+  EXPECT_LE(d_stencil, tol) << "float stencil vs double";
+  EXPECT_LE(d_double, 1e-12 * peak) << "double, stencil vs element kernel";
+  EXPECT_LE(maxAbsDiff(element.final_u, stencil.final_u), tol / peak * maxAbs(dbl_element.final_u));
 }
