@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """railvib robustness cases: what an adversarial user feeds railvib, and what railvib does with it.
 
-usage: robustness.py [--groups config,csv,nodes,bags,launch] [--table FILE] [--junit FILE] [--check]
+usage: robustness.py [--groups config,csv,nodes,bags,launch] [--table FILE] [--junit FILE] [--json FILE] [--check]
+       robustness.py --from-json RESULTS.json... --table FILE
 
 Each case feeds one bad input to the program a user would run, and classifies the outcome:
 
@@ -513,17 +514,22 @@ def launch_group():
 
 
 # ----------------------------------------------------------------- nodes
-def nodes_group():
-    sys.path.insert(0, str(ROOT / "test" / "ros"))
-    import node_fuzz
+def node_rows(fuzz_results):
+    """The cases of test/ros/node_fuzz.py (its run() or --json) as rows of the table."""
     results = []
-    for r in node_fuzz.run(progress=False):
+    for r in fuzz_results:
         outcome = r["outcome"]
         if outcome == "finished":
             continue  # control cases: a valid stream runs through, not an adversarial case
         results.append({"group": "stream messages, each node alone", "case": r["group"][5:] + ": " + r["case"],
                         "outcome": outcome, "detail": r.get("detail", "")})
     return results
+
+
+def nodes_group():
+    sys.path.insert(0, str(ROOT / "test" / "ros"))
+    import node_fuzz
+    return node_rows(node_fuzz.run(progress=False))
 
 
 GROUPS = {"config": config_group, "csv": csv_group, "nodes": nodes_group, "bags": bags_group,
@@ -561,11 +567,19 @@ def main(argv):
     parser.add_argument("--junit")
     parser.add_argument("--json")
     parser.add_argument("--check", action="store_true")
+    parser.add_argument("--from-json", nargs="+", metavar="FILE",
+                        help="no run: the table (--table) of results saved by an earlier run (--json of this "
+                             "script, or of test/ros/node_fuzz.py), e.g. those of ./railvib test")
     options = parser.parse_args(argv[1:])
-    if not TOOL:
-        sys.exit("robustness: railvib_tool not found (run in the workspace environment)")
     results = []
-    for g in options.groups.split(","):
+    if options.from_json:
+        for f in options.from_json:
+            saved = json.loads(pathlib.Path(f).read_text())
+            results += node_rows(saved) if saved and saved[0].get("group", "").startswith("node ") else saved
+        options.groups = ""
+    elif not TOOL:
+        sys.exit("robustness: railvib_tool not found (run in the workspace environment)")
+    for g in filter(None, options.groups.split(",")):
         start = time.time()
         got = GROUPS[g]()
         results += got
