@@ -25,6 +25,7 @@ import argparse
 import json
 import os
 import pathlib
+import re
 import shutil
 import signal
 import subprocess
@@ -554,7 +555,10 @@ def table(results):
         lines += [f"### {g}", "", "| case | outcome | message |", "|---|---|---|"]
         for r in results:
             if r["group"] == g:
-                msg = r["detail"].replace("|", "\\|").replace("\n", " ")
+                # Without terminal colours and ROS's "[FATAL] [stamp]: " prefix: what was said.
+                msg = re.sub(r"\x1b\[[0-9;]*m", "", r["detail"])
+                msg = re.sub(r"^\[ ?(FATAL|ERROR|WARN|INFO) ?\] \[[0-9.]+\]: ", "", msg)
+                msg = msg.replace("|", "\\|").replace("\n", " ")
                 lines.append(f"| {r['case']} | {r['outcome']} | {msg} |")
         lines.append("")
     return "\n".join(lines)
