@@ -86,14 +86,22 @@ def stream_blocks(bag_path, topic):
         return [m for _, m, _ in bag.read_messages(topics=[topic])]
 
 
+def haren_run(test, name):
+    """The bag of the short Haren run `name`, run once (a recorder never overwrites a bag) and only if
+    that run exited 0: the determinism, replay and truncated-bag checks share run a."""
+    bag = WORK / f"determinism_{name}.bag"
+    if not bag.exists():
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
+        test.assertEqual(code, 0, f"run {name} failed:\n{out[-3000:]}")
+        test.assertTrue(bag.exists(), f"run {name} wrote no bag:\n{out[-3000:]}")
+    return bag
+
+
 class ScenarioChecks(unittest.TestCase):
     def test_two_runs_give_identical_bags(self):
         bags = []
         for name in ("a", "b"):
-            bag = WORK / f"determinism_{name}.bag"
-            code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
-            self.assertEqual(code, 0, f"run {name} failed:\n{out[-3000:]}")
-            self.assertTrue(bag.exists(), f"run {name} wrote no bag:\n{out[-3000:]}")
+            bag = haren_run(self, name)
             checked = bag_check.check_bag(bag)
             self.assertEqual(checked.code, 0, f"run {name}: {checked.refused} {checked.findings}")
             self.assertEqual(sorted(checked.expected), sorted(STREAMS))
@@ -127,9 +135,7 @@ class ScenarioChecks(unittest.TestCase):
         self.assertIn(names.BUILDING_RESPONSE, checked.incomplete)
 
     def test_replay_feeds_sensors_tf_and_rviz_scene(self):
-        source = WORK / "determinism_a.bag"
-        if not source.exists():
-            launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(source)])
+        source = haren_run(self, "a")
         PORT[0] += 1
         env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
         probe_out = WORK / "replay_probe.json"
@@ -179,9 +185,7 @@ class ScenarioChecks(unittest.TestCase):
             self.assertAlmostEqual(got["metrics"][name]["ppv_m_s"], live.ppv_m_s, delta=1e-15 + 1e-9 * live.ppv_m_s)
 
     def test_truncated_bag_is_refused_with_a_clear_error(self):
-        source = WORK / "determinism_a.bag"
-        if not source.exists():
-            code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(source)])
+        source = haren_run(self, "a")
         data = source.read_bytes()
         truncated = WORK / "truncated.bag"
         truncated.write_bytes(data[: len(data) // 2])
@@ -247,7 +251,7 @@ class ScenarioChecks(unittest.TestCase):
                         if f"pid={pid}," in users:
                             name = users.split('"')[1] if '"' in users else str(pid)
                             seen.setdefault(name, set()).add(local.rsplit(":", 1)[0])
-                if {"track_node", "bag_recorder_no", "moving_load_nod", "rosmaster", "rosout"} <= set(seen):
+                if {"track_node", "bag_recorder_no", "moving_load_nod", "rosmaster", "rosout_node"} <= set(seen):
                     break
                 time.sleep(0.2)
 
@@ -256,7 +260,9 @@ class ScenarioChecks(unittest.TestCase):
                            env_extra={"ROS_IP": "127.0.0.1", "ROS_HOSTNAME": None}, on_start=probe)
         self.assertEqual(code, 0, out[-3000:])
         # Process names as ss shows them (15 characters).
-        for process in ("rosmaster", "rosout", "moving_load_nod", "track_node", "bag_recorder_no", "site_frames_nod"):
+        # rosout_node: railvib's rosout (launch/core/roscore.xml), which ./railvib's ROS_ETC_DIR selects.
+        for process in ("rosmaster", "rosout_node", "moving_load_nod", "track_node", "bag_recorder_no",
+                        "site_frames_nod"):
             self.assertIn(process, seen, f"no listening socket of {process} seen: {seen}")
         exposed = {p: a for p, a in seen.items() if a - {"127.0.0.1", "[::1]", "[::ffff:127.0.0.1]"}}
         self.assertEqual(exposed, {}, "servers listening beyond loopback with ROS_IP=127.0.0.1")
