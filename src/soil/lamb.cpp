@@ -29,15 +29,12 @@ double gauss(F f, double a, double b, int panels) {
 
 // Quarter model of a point load on the surface at the origin: symmetry on the
 // x = 0 and y = 0 faces, Lysmer dashpots (and the given layer) on the others.
-SolverOptions quarterModelOptions(Precision precision, const ReflectionCase& layer) {
+SolverOptions quarterModelOptions(Precision precision, const BoundarySpec& boundary) {
   SolverOptions o;
   o.absorbing.x_min = o.absorbing.y_min = false;
   o.symmetry_x_min = o.symmetry_y_min = true;
   o.precision = precision;
-  if (layer.layer_m > 0.0 && layer.alpha_1_s > 0.0) {
-    o.boundary.method = BoundaryMethod::GradedLayer;
-    o.boundary.graded_layer = {layer.layer_m, layer.alpha_1_s, layer.exponent, layer.bottom};
-  }
+  o.boundary = boundary;
   return o;
 }
 
@@ -157,8 +154,7 @@ LambResult runLamb(const LambSpec& spec) {
   const size_t nz = static_cast<size_t>(std::llround(spec.depth_m / spec.h_m));
   std::vector<double> z(nz + 1);
   for (size_t k = 0; k <= nz; ++k) z[k] = spec.h_m * static_cast<double>(k);
-  SolverOptions o = quarterModelOptions(spec.precision, {spec.absorbing_layer_m, spec.absorbing_layer_alpha_1_s,
-                                                         spec.absorbing_layer_exponent, spec.absorbing_layer_bottom});
+  SolverOptions o = quarterModelOptions(spec.precision, spec.boundary);
   o.kernel = spec.kernel;
   Solver s(buildUniformMesh(n, n, spec.h_m, spec.h_m, z, std::vector<Material>(nz, spec.material)), o);
   addVerticalPointLoadAtOrigin(s);
@@ -261,7 +257,30 @@ ReflectionRow reflectionFigures(const std::vector<double>& w, const std::vector<
   row.band_10_20 = band(10.0, 20.0);
   row.band_20_35 = band(21.0, 35.0);
   row.band_35_50 = band(36.0, 50.0);
+  row.band_21_30 = band(21.0, 30.0);
+  row.band_31_40 = band(31.0, 40.0);
+  row.band_41_50 = band(41.0, 50.0);
   return row;
+}
+
+ReflectionCase ReflectionCase::gradedLayer(double thickness_m, double max_alpha_1_s, double exponent, bool bottom) {
+  ReflectionCase c;
+  c.layer_m = thickness_m;
+  c.bottom = bottom;
+  if (thickness_m > 0.0 && max_alpha_1_s > 0.0) {
+    c.boundary.method = BoundaryMethod::GradedLayer;
+    c.boundary.graded_layer = {thickness_m, max_alpha_1_s, exponent, bottom};
+  }
+  return c;
+}
+
+ReflectionCase ReflectionCase::pml(const PmlSpec& spec) {
+  ReflectionCase c;
+  c.layer_m = spec.thickness_m;
+  c.bottom = spec.bottom;
+  c.boundary.method = BoundaryMethod::Pml;
+  c.boundary.pml = spec;
+  return c;
 }
 
 ReflectionResult runBoundaryReflection(double small_half_width_m, const std::vector<ReflectionCase>& cases) {
@@ -283,14 +302,11 @@ ReflectionResult runBoundaryReflection(double small_half_width_m, const std::vec
     if (small.half_width_m >= ref.half_width_m) {
       throw std::invalid_argument("soil reflection: box with the layer too large for the reference box");
     }
-    small.absorbing_layer_m = c.layer_m;
-    small.absorbing_layer_alpha_1_s = c.alpha_1_s;
-    small.absorbing_layer_exponent = c.exponent;
-    small.absorbing_layer_bottom = c.bottom;
+    small.boundary = c.boundary;
     const LambResult r = runLamb(small);
     ReflectionRow row = reflectionFigures(r.w_fe[0], a.w_fe[0], a.dt_s);
     if (r.dt_s != a.dt_s) throw std::logic_error("soil reflection: small and reference boxes must share dt");
-    row.layer = c;
+    row.absorber = c;
     row.elements = r.elements;
     row.dt_s = r.dt_s;
     out.rows.push_back(row);
@@ -307,7 +323,7 @@ struct LayeredRun {
 };
 
 LayeredRun layeredRun(const LayeredReflectionSpec& spec, const StructuredMesh& base, double half_width_m,
-                      double depth_m, const ReflectionCase& layer) {
+                      double depth_m, const BoundarySpec& boundary) {
   const size_t n = static_cast<size_t>(std::llround(half_width_m / base.hx));
   std::vector<double> z(base.z);
   std::vector<Material> mats;
@@ -317,7 +333,7 @@ LayeredRun layeredRun(const LayeredReflectionSpec& spec, const StructuredMesh& b
     z.push_back(z.back() + dz);
     mats.push_back(mats.back());
   }
-  SolverOptions o = quarterModelOptions(spec.precision, layer);
+  SolverOptions o = quarterModelOptions(spec.precision, boundary);
   o.rayleigh_beta_s = spec.rayleigh_beta_s;
   o.damping_cutoff_hz = spec.damping_cutoff_hz;
   Solver s(buildUniformMesh(n, n, base.hx, base.hx, z, mats), o);
@@ -354,7 +370,7 @@ LayeredReflectionResult runLayeredReflection(const LayeredReflectionSpec& spec,
   const StructuredMesh base = buildMesh(spec.profile, ms);
   LayeredReflectionResult out;
   out.h_m = base.hx;
-  const LayeredRun ref = layeredRun(spec, base, spec.reference_half_width_m, spec.reference_depth_m, ReflectionCase{});
+  const LayeredRun ref = layeredRun(spec, base, spec.reference_half_width_m, spec.reference_depth_m, BoundarySpec{});
   out.dt_s = ref.dt_s;
   out.reference_elements = ref.elements;
   for (const ReflectionCase& c : cases) {
@@ -363,10 +379,10 @@ LayeredReflectionResult runLayeredReflection(const LayeredReflectionSpec& spec,
     if (w >= spec.reference_half_width_m || d >= spec.reference_depth_m) {
       throw std::invalid_argument("soil reflection: box with the layer too large for the reference box");
     }
-    const LayeredRun r = layeredRun(spec, base, w, d, c);
+    const LayeredRun r = layeredRun(spec, base, w, d, c.boundary);
     if (r.dt_s != ref.dt_s) throw std::logic_error("soil reflection: boxes must share dt");
     LayeredReflectionRow row;
-    row.layer = c;
+    row.absorber = c;
     row.elements = r.elements;
     for (size_t k = 0; k < spec.distances_m.size(); ++k) {
       row.stations.push_back(reflectionFigures(r.w[k], ref.w[k], ref.dt_s));

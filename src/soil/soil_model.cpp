@@ -53,11 +53,20 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   const StructuredMesh& m = solver_->mesh();
   // Sleeper footprints -> consistent nodal loads (downward = +d).
   const double hl = 0.5 * params_.track.length_m, hw = 0.5 * params_.track.width_m;
+  // A boundary whose zone takes no loads (a PML: its fields are not physical) shrinks the loaded box by the zone.
+  const SoilBoundary& boundary = solver_->boundary();
+  const double zone = boundary.zoneTakesLoads() ? 0.0 : boundary.zoneThicknessM();
+  const AbsorbingFaces& faces = params_.solver.absorbing;
+  const double lx0 = m.x0 + (faces.x_min ? zone : 0.0), lx1 = m.xMax() - (faces.x_max ? zone : 0.0);
+  const double ly0 = m.y0 + (faces.y_min ? zone : 0.0), ly1 = m.yMax() - (faces.y_max ? zone : 0.0);
   std::vector<size_t> outside;
+  size_t in_zone = 0;
   for (size_t s = 0; s < sleeper_x_.size(); ++s) {
     const double xa = sleeper_x_[s] - hw, xb = sleeper_x_[s] + hw;
     const bool inside = xa >= m.x0 - 1e-9 && xb <= m.xMax() + 1e-9 && -hl >= m.y0 - 1e-9 && hl <= m.yMax() + 1e-9;
-    if (!inside) {
+    const bool loadable = xa >= lx0 - 1e-9 && xb <= lx1 + 1e-9 && -hl >= ly0 - 1e-9 && hl <= ly1 + 1e-9;
+    if (!loadable) {
+      if (inside) ++in_zone;
       outside.push_back(s);
       continue;
     }
@@ -76,11 +85,13 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   if (!outside.empty() && params_.loads_outside_mesh == "error") {
     std::ostringstream why;
     why << outside.size() << " sleeper footprints (e.g. x = " << sleeper_x_[outside.front()]
-        << " m) lie outside the soil mesh x [" << m.x0 << ", " << m.xMax() << "] m; widen soil.mesh or set "
-        << "soil.loads.outside_mesh: drop";
+        << " m) lie outside the soil mesh x [" << m.x0 << ", " << m.xMax() << "] m";
+    if (in_zone > 0) why << " or in the " << zone << " m " << boundaryMethodName(boundary.method()) << " zone";
+    why << "; widen soil.mesh or set soil.loads.outside_mesh: drop";
     throw ConfigError("soil.loads.outside_mesh: " + why.str());
   }
   dropped_ = outside;
+  dropped_in_zone_ = in_zone;
   channel_values_.assign(sleeper_x_.size() - dropped_.size(), 0.0);
   load_eval_.assign(sleeper_x_.size(), 0.0);
   loads_ = std::make_unique<signal::StreamInterpolator>(load_sample_rate_hz, sleeper_x_.size(), 0.0);
@@ -159,6 +170,7 @@ nlohmann::json SoilModel::summary() const {
           {"memory_bytes", s.memoryBytes() + snapshot_bytes},
           {"sleepers_loaded", sleeper_x_.size() - dropped_.size()},
           {"sleepers_dropped", dropped_.size()},
+          {"sleepers_dropped_in_boundary_zone", dropped_in_zone_},
           {"receivers", params_.receivers.size()},
           {"rigid_bodies", bodiesSummary(s)}};
 }

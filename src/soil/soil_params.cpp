@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include "railvib/common/machine.hpp"
 #include "railvib/common/names.hpp"
@@ -161,13 +162,20 @@ void checkReceivers(const ConfigNode& soil, const SoilParams& p) {
   }
 }
 
-// The mesh must fit in soil.mesh.max_memory_gb: checked before anything is allocated.
-void checkMemory(const ConfigNode& mesh, const SoilParams& p) {
+// The boundary must fit the mesh, and the mesh soil.mesh.max_memory_gb: checked before anything is allocated.
+void checkMemory(const ConfigNode& soil, const SoilParams& p) {
+  const ConfigNode mesh = soil.section("mesh");
   StructuredMesh m;
   try {
     m = buildMesh(p.profile, p.mesh);
   } catch (const std::invalid_argument& e) {
     mesh.fail("f_max_hz", e.what());
+  }
+  // The boundary on this mesh (e.g. a PML must be at least one element thick).
+  try {
+    makeSoilBoundary(p.solver.boundary)->kernelElements(BoundaryContext{&m, nullptr, p.solver.absorbing});
+  } catch (const std::invalid_argument& e) {
+    soil.section("boundary").section(absorbingZone(p.solver).key).fail("thickness_m", e.what());
   }
   const double bytes = static_cast<double>(solverMemoryBytes(m, p.solver.precision)) +
                        static_cast<double>(m.nodeCount()) * sizeof(double) +
@@ -204,7 +212,7 @@ SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
   p.track = loadTrackLayout(root);
   collectReceivers(root, house, p);
   checkReceivers(soil, p);
-  checkMemory(soil.section("mesh"), p);
+  checkMemory(soil, p);
   return p;
 }
 

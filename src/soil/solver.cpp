@@ -80,7 +80,9 @@ struct ImplT : Solver::Impl {
         const double a = mass[i] / dt_s;
         const bool fixed = (o.lateral_rollers && d < 2) || (o.fixed_bottom && i >= n - sxy) ||
                            (o.symmetry_x_min && d == 0 && i % sx == 0) ||
-                           (o.symmetry_y_min && d == 1 && (i % sxy) / sx == 0);
+                           (o.symmetry_y_min && d == 1 && (i % sxy) / sx == 0) ||
+                           (o.antisymmetry_x_min && d != 0 && i % sx == 0) ||
+                           (o.antisymmetry_y_min && d != 1 && (i % sxy) / sx == 0);
         va[d][i] = fixed ? Real(0) : static_cast<Real>((a - 0.5 * c[d][i]) / (a + 0.5 * c[d][i]));
         vb[d][i] = fixed ? Real(0) : static_cast<Real>(1.0 / (a + 0.5 * c[d][i]));
       }

@@ -291,6 +291,7 @@ std::vector<ThroughputResult> runThroughput(const ThroughputSpec& spec) {
     o.threads = spec.threads;
     o.rayleigh_beta_s = 4e-4;
     o.kernel = kind;
+    o.boundary = spec.boundary;
     solvers.push_back(std::make_unique<Solver>(mesh, o));
     Solver& s = *solvers.back();
     std::mt19937 rng(7);
@@ -331,6 +332,7 @@ std::vector<ThroughputResult> runThroughput(const ThroughputSpec& spec) {
     ThroughputResult r;
     r.kernel = spec.kernels[q];
     r.elements = mesh.elementCount();
+    r.boundary_elements = r.elements - solvers[q]->kernelElements().count();
     r.threads = spec.threads;
     r.element_updates_per_s = medianOf(rate[q]);
     r.element_updates_per_cpu_s = medianOf(cpu_rate[q]);

@@ -52,9 +52,39 @@ struct BenchArgs {
   void addLayerCases(std::vector<ReflectionCase>& cases) const {
     for (double layer : list("layer")) {
       for (double n : list("exponent")) {
-        for (double alpha : list("alpha")) cases.push_back({layer, alpha, n, p.getInt("layer-bottom") != 0});
+        for (double alpha : list("alpha")) {
+          cases.push_back(ReflectionCase::gradedLayer(layer, alpha, n, p.getInt("layer-bottom") != 0));
+        }
       }
     }
+  }
+  /// The product of the --pml-* lists (none when --pml-thickness is empty).
+  std::vector<ReflectionCase> pmlCases() const {
+    std::vector<ReflectionCase> cases;
+    if (p.get("pml-thickness").empty()) return cases;
+    for (double thickness : list("pml-thickness")) {
+      for (double r : list("pml-reflection")) {
+        for (double n : list("pml-exponent")) {
+          for (double kappa : list("pml-kappa")) {
+            for (double alpha : list("pml-alpha")) {
+              for (double ratio : list("pml-ratio")) {
+                PmlSpec s;
+                s.thickness_m = thickness;
+                s.reflection_coefficient = r;
+                s.exponent = n;
+                s.max_kappa = kappa;
+                s.alpha_1_s = alpha;
+                s.perpendicular_ratio = ratio;
+                s.bottom = p.getInt("pml-bottom") != 0;
+                s.outer_dashpots = p.getInt("pml-outer-dashpots") != 0;
+                cases.push_back(ReflectionCase::pml(s));
+              }
+            }
+          }
+        }
+      }
+    }
+    return cases;
   }
 };
 
@@ -65,15 +95,16 @@ json reflectionFigures(const ReflectionRow& row) {
   return {{"peak", row.peak},
           {"band_10_50_hz", row.band_10_50},
           {"band_10_20_hz", row.band_10_20},
+          {"band_21_30_hz", row.band_21_30},
+          {"band_31_40_hz", row.band_31_40},
+          {"band_41_50_hz", row.band_41_50},
           {"band_21_35_hz", row.band_20_35},
           {"band_36_50_hz", row.band_35_50}};
 }
 
-json layerFields(const ReflectionCase& layer) {
-  return {{"layer_m", layer.layer_m},
-          {"alpha_1_s", layer.alpha_1_s},
-          {"exponent", layer.exponent},
-          {"layer_bottom", layer.bottom}};
+// The absorber of a reflection run: the added strip and the boundary's own summary.
+json absorberFields(const ReflectionCase& c) {
+  return {{"layer_m", c.layer_m}, {"layer_bottom", c.bottom}, {"boundary", makeSoilBoundary(c.boundary)->summary()}};
 }
 
 void benchColumn(const BenchArgs& a, json& out) {
@@ -185,6 +216,36 @@ void benchThroughput(const BenchArgs& a, json& out) {
           << " GFLOP/s 1 thread, " << peaks[1].gflop_s << " GFLOP/s 2 threads\n";
     out[pname] = jp;
   }
+  // With --pml-thickness: the first kernel on the same mesh with the (first) PML case vs dashpots, 2 threads,
+  // alternating rounds; the ratio says what the PML adds to a step.
+  if (const std::vector<ReflectionCase> pml = a.pmlCases(); !pml.empty()) {
+    ThroughputSpec one = spec;
+    one.kernels = {spec.kernels.front()};
+    one.threads = 2;
+    one.precision = a.precisions.front();
+    one.repeat = 1;
+    std::vector<double> ratio, cpu_ratio;
+    size_t layer_elements = 0;
+    for (int rep = 0; rep < spec.repeat; ++rep) {
+      one.boundary = BoundarySpec{};
+      const ThroughputResult d = runThroughput(one).front();
+      one.boundary = pml.front().boundary;
+      const ThroughputResult m = runThroughput(one).front();
+      ratio.push_back(m.seconds_per_step / d.seconds_per_step);
+      cpu_ratio.push_back(d.element_updates_per_cpu_s / m.element_updates_per_cpu_s);
+      layer_elements = m.boundary_elements;
+    }
+    auto med = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    out["pml"] = {{"boundary", absorberFields(pml.front())},
+                  {"pml_elements", layer_elements},
+                  {"step_time_ratio_pml_over_dashpots", med(ratio)},
+                  {"cpu_time_ratio_pml_over_dashpots", med(cpu_ratio)}};
+    table << "PML " << pml.front().boundary.pml.thickness_m << " m (" << layer_elements
+          << " layer elements): step time x " << std::setprecision(2) << med(ratio) << " of dashpots\n";
+  }
   out["elements"] = spec.nx * spec.ny * spec.nz;
   out["steps"] = spec.steps;
   out["repeat"] = spec.repeat;
@@ -201,10 +262,11 @@ void benchThroughput(const BenchArgs& a, json& out) {
 void benchReflection(const BenchArgs& a, json& out) {
   std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
   a.addLayerCases(cases);
+  for (const ReflectionCase& c : a.pmlCases()) cases.push_back(c);
   const ReflectionResult r = runBoundaryReflection(a.p.getDouble("small-box"), cases);
   json rows = json::array();
   for (const ReflectionRow& row : r.rows) {
-    json fields = layerFields(row.layer);
+    json fields = absorberFields(row.absorber);
     fields.update(reflectionFigures(row));
     fields["elements"] = row.elements;
     fields["dt_s"] = row.dt_s;
@@ -217,7 +279,8 @@ void benchReflection(const BenchArgs& a, json& out) {
   out["note"] =
       "peak = max |w_small_box - w_reference_box| / max |w_reference| at r (Lamb Hann pulse, 50 ms); band_* = rms "
       "reflected / direct amplitude over 1 Hz lines of the band; the first run is the small box with Lysmer "
-      "dashpots only, the others enlarge it by layer_m (alpha 0: no layer)";
+      "dashpots only, the others enlarge it by layer_m with the given boundary (a graded layer of alpha 0: the "
+      "enlarged box with dashpots)";
 }
 
 void benchReflectionLayered(const BenchArgs& a, json& out) {
@@ -242,11 +305,15 @@ void benchReflectionLayered(const BenchArgs& a, json& out) {
   const SolverOptions& so = sp.solver;
   if (so.boundary.method == BoundaryMethod::GradedLayer) {
     const GradedLayerSpec& g = so.boundary.graded_layer;
-    const ReflectionCase configured{g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom};
-    cases.push_back(configured);
-    cases.push_back({configured.layer_m, 0.0, configured.exponent, configured.bottom});
+    cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, g.max_alpha_1_s, g.exponent, g.bottom));
+    cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, 0.0, g.exponent, g.bottom));
+  } else if (so.boundary.method == BoundaryMethod::Pml) {
+    const PmlSpec& g = so.boundary.pml;
+    cases.push_back(ReflectionCase::pml(g));
+    cases.push_back(ReflectionCase::gradedLayer(g.thickness_m, 0.0, 1.0, g.bottom));
   }
   if (a.p.isSet("layer") || a.p.isSet("alpha") || a.p.isSet("exponent")) a.addLayerCases(cases);
+  for (const ReflectionCase& c : a.pmlCases()) cases.push_back(c);
   const LayeredReflectionResult r = runLayeredReflection(spec, cases);
   json rows = json::array();
   for (const LayeredReflectionRow& row : r.rows) {
@@ -256,7 +323,7 @@ void benchReflectionLayered(const BenchArgs& a, json& out) {
       station.update(reflectionFigures(row.stations[k]));
       st.push_back(station);
     }
-    json fields = layerFields(row.layer);
+    json fields = absorberFields(row.absorber);
     fields["elements"] = row.elements;
     fields["stations"] = st;
     rows.push_back(fields);
@@ -271,8 +338,8 @@ void benchReflectionLayered(const BenchArgs& a, json& out) {
   out["runs"] = rows;
   out["note"] =
       "config's soil profile and mesh resolution, quarter model, Hann pulse point load; runs: box of interest with "
-      "dashpots only, then (if configured) with the config's layer outside it and the same enlarged box without "
-      "layer, then the --layer/--alpha/--exponent product if given; figures as in `reflection`";
+      "dashpots only, then (if configured) with the config's layer or PML outside it and the same enlarged box "
+      "without it, then the --layer/--alpha/--exponent and --pml-* products if given; figures as in `reflection`";
 }
 
 void writeLambCsv(const std::string& path, const LambResult& r) {
@@ -367,6 +434,15 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("lamb-h", "lamb: element size (m)", "");
   p.option("csv", "lamb: write FE and analytic curves to this CSV", "");
   p.option("box", "reflection-layered: half width and depth of the box of interest (m), e.g. 16,12", "16,12");
+  // PML cases of `reflection`, `reflection-layered` and `throughput`: the product of these lists.
+  p.option("pml-thickness", "reflection*, throughput: PML thicknesses (m), comma-separated (none if empty)", "");
+  p.option("pml-reflection", "reflection*: PML target reflection coefficients R, comma-separated", "1e-3");
+  p.option("pml-exponent", "reflection*: PML profile exponents n, comma-separated", "2");
+  p.option("pml-kappa", "reflection*: PML kappa at the outer face, comma-separated", "1");
+  p.option("pml-alpha", "reflection*: PML CFS frequency shift alpha (1/s), comma-separated", "0");
+  p.option("pml-ratio", "reflection*: M-PML ratio p, comma-separated", "0");
+  p.option("pml-bottom", "reflection*: 1 = PML along the bottom too, 0 = sides only", "1");
+  p.option("pml-outer-dashpots", "reflection*: 1 = dashpots at the PML's outer faces, 0 = free faces", "1");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
   addConfigOptions(p);  // reflection-layered: soil profile, mesh resolution, damping and layer from the config
   std::vector<std::string> rest = args;

@@ -5,7 +5,9 @@
 //   graded_layer  a mass-proportional damping layer alpha(s) M in front of
 //                 the dashpots, alpha = alpha_max (s / L)^n with s the depth
 //                 into the layer (boundary_graded_layer.cpp)
-//   pml           perfectly matched layer (boundary_pml.cpp), when available
+//   pml           convolutional / multi-axial perfectly matched layer: complex
+//                 coordinate stretching s = kappa + d / (alpha + i omega) of the
+//                 derivatives, recursive convolution (boundary_pml.cpp)
 //
 // A boundary acts on the absorbing faces of the mesh (x_min, x_max, y_min,
 // y_max, bottom; the top is the free surface). At set-up it may add diagonal
@@ -48,9 +50,36 @@ struct GradedLayerSpec {
   bool bottom = true;
 };
 
+/// Perfectly matched layer along the absorbing faces (docs/soil.md, "Perfectly matched layer").
+/// Per direction l the derivative d/dx_l is stretched by 1 / s_l, s_l = kappa_l + d_l / (alpha_l + i omega)
+/// (complex frequency shifted, Kuzuoglu & Mittra 1996; Komatitsch & Martin 2007), with the profile
+/// d_l = d0 (s / L)^n, s the distance into the layer, d0 = -(n + 1) c_p ln(R) / (2 L) (Collino & Tsogka 2001),
+/// c_p the largest P-wave speed of the mesh; kappa_l = 1 + (kappa_max - 1) (s / L)^n; alpha constant in the layer.
+/// Multi-axial (Meza-Fajardo & Papageorgiou 2008): the other two directions get p d_l as well.
+struct PmlSpec {
+  /// Layer thickness (m) along the absorbing faces; the layer is a whole number of elements, at most this thick.
+  double thickness_m = 0.0;
+  /// Target reflection coefficient R at normal incidence of a P wave (sets d0); 1 gives d = 0 (tests).
+  double reflection_coefficient = 1e-3;
+  /// Profile exponent n of (s / L)^n.
+  double exponent = 2.0;
+  /// kappa at the outer face (1 = no real stretching).
+  double max_kappa = 1.0;
+  /// CFS frequency shift alpha (1/s), the same throughout the layer: the stretched stiffness keeps
+  /// alpha / (kappa alpha + d) of its static value (0 for alpha = 0: static fields would not relax).
+  double alpha_1_s = 0.0;
+  /// M-PML ratio p: damping p d added in the two directions parallel to the face.
+  double perpendicular_ratio = 0.0;
+  /// Whether the layer also runs along the bottom (else the bottom keeps plain dashpots).
+  bool bottom = true;
+  /// Lysmer-Kuhlemeyer dashpots at the outer faces of the layer (else those faces are free).
+  bool outer_dashpots = true;
+};
+
 struct BoundarySpec {
   BoundaryMethod method = BoundaryMethod::Dashpots;
   GradedLayerSpec graded_layer;
+  PmlSpec pml;
 };
 
 /// What a boundary needs to know at set-up.
@@ -69,6 +98,9 @@ class SoilBoundary {
   virtual double zoneThicknessM() const { return 0.0; }
   /// Whether that zone also runs along the bottom.
   virtual bool zoneAlongBottom() const { return false; }
+  /// Whether loads may act inside that zone (a damping layer: yes, weakly damped; a PML: no, its
+  /// fields are not physical there).
+  virtual bool zoneTakesLoads() const { return true; }
   /// Elements the stiffness kernel integrates; the boundary's unit integrates the others.
   virtual ElementBox kernelElements(const BoundaryContext& ctx) const { return ElementBox::all(*ctx.mesh); }
   /// Diagonal viscous damping (N s/m) per node and component, added to c[component][node].

@@ -59,11 +59,8 @@ struct LambSpec {
   std::vector<double> distances_m = {4.0, 6.0, 8.0};
   /// Simulated time (0 = until the pulse has passed the farthest station).
   double duration_s = 0.0;
-  /// Absorbing layer along the absorbing faces (see SolverOptions).
-  double absorbing_layer_m = 0.0;
-  double absorbing_layer_alpha_1_s = 0.0;
-  double absorbing_layer_exponent = 2.0;
-  bool absorbing_layer_bottom = true;
+  /// Boundary on the absorbing faces (default: Lysmer dashpots; a graded layer or a PML lies inside the box).
+  BoundarySpec boundary;
   Precision precision = Precision::Float;
   KernelKind kernel = KernelKind::Element;
 };
@@ -91,19 +88,26 @@ LambResult runLamb(const LambSpec& spec);
 /// station r over the window: peak = max |w_small - w_ref| / max |w_ref|;
 /// band = sqrt(sum |D(f)|^2 / sum |W_ref(f)|^2) over 1 Hz lines of a band (D, W_ref
 /// the Fourier transforms of the difference and of the reference), i.e. the rms
-/// reflected / direct amplitude ratio in that band. An absorbing layer is added
-/// outside the small box (same region of interest; the box grows by its thickness).
+/// reflected / direct amplitude ratio in that band. An absorbing zone (graded layer, PML)
+/// is added outside the small box (same region of interest; the box grows by its thickness).
 struct ReflectionCase {
-  double layer_m = 0.0;  // 0: small box, Lysmer only
-  double alpha_1_s = 0.0;
-  double exponent = 2.0;
-  bool bottom = true;  // layer along the bottom too (the box deepens by layer_m), else sides only
+  /// The box grows by this on its absorbing sides (and below when `bottom`); 0: the box itself.
+  double layer_m = 0.0;
+  bool bottom = true;
+  /// Boundary of the enlarged box, its zone filling the added strip (dashpots: no zone).
+  BoundarySpec boundary;
+
+  /// A graded layer L thick (max_alpha 0: the box enlarged by L, dashpots only).
+  static ReflectionCase gradedLayer(double thickness_m, double max_alpha_1_s, double exponent, bool bottom);
+  /// A PML of spec.thickness_m (along the bottom when spec.bottom).
+  static ReflectionCase pml(const PmlSpec& spec);
 };
 struct ReflectionRow {
-  ReflectionCase layer;
+  ReflectionCase absorber;
   double peak = 0.0;
-  double band_10_50 = 0.0;  // 10-50 Hz
-  double band_10_20 = 0.0, band_20_35 = 0.0, band_35_50 = 0.0;
+  double band_10_50 = 0.0;                                      // 10-50 Hz
+  double band_10_20 = 0.0, band_20_35 = 0.0, band_35_50 = 0.0;  // 10-20, 21-35, 36-50 Hz
+  double band_21_30 = 0.0, band_31_40 = 0.0, band_41_50 = 0.0;  // and 21-30, 31-40, 41-50 Hz
   size_t elements = 0;
   double dt_s = 0.0;
 };
@@ -116,7 +120,7 @@ ReflectionResult runBoundaryReflection(double small_half_width_m, const std::vec
 
 /// The same on a layered profile (e.g. Haren's, as meshed by buildMesh from f_max and
 /// elements per wavelength): quarter model, vertical Hann pulse point load at the corner,
-/// box of interest box_half_width_m x box_depth_m (an absorbing layer is added outside it
+/// box of interest box_half_width_m x box_depth_m (an absorbing zone is added outside it
 /// along the sides, and below it when ReflectionCase::bottom), compared with a reference box
 /// (same element size and depth grading, the half-space levels continued) over window_s.
 struct LayeredReflectionSpec {
@@ -131,7 +135,7 @@ struct LayeredReflectionSpec {
   Precision precision = Precision::Float;
 };
 struct LayeredReflectionRow {
-  ReflectionCase layer;
+  ReflectionCase absorber;
   std::vector<ReflectionRow> stations;  // per distance
   size_t elements = 0;
 };

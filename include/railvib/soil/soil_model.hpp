@@ -68,9 +68,10 @@ struct SectionSnapshot {
 class SoilModel {
  public:
   /// Builds the mesh and the solver, and attaches the rigid bodies (e.g. a house's foundation,
-  /// coupling/house_foundation.hpp); sleepers outside the mesh are an error or dropped
-  /// (params.loads_outside_mesh). load_sample_rate_hz: rate of the load stream (the track's
-  /// track.output.load_sample_rate_hz). Throws ConfigError / std::invalid_argument.
+  /// coupling/house_foundation.hpp); sleepers outside the mesh, or reaching into the zone of a
+  /// boundary that takes no loads (a PML), are an error or dropped (params.loads_outside_mesh).
+  /// load_sample_rate_hz: rate of the load stream (the track's track.output.load_sample_rate_hz).
+  /// Throws ConfigError / std::invalid_argument.
   SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
             const std::vector<RigidBodySpec>& bodies = {});
   ~SoilModel();
@@ -80,7 +81,7 @@ class SoilModel {
   double dt() const { return solver_->dt(); }
   double time() const { return solver_->time(); }
   size_t sleeperCount() const { return sleeper_x_.size(); }
-  /// Sleepers whose load is ignored (outside the mesh, loads_outside_mesh = drop).
+  /// Sleepers whose load is ignored (outside the mesh or in a PML zone, loads_outside_mesh = drop).
   const std::vector<size_t>& droppedSleepers() const { return dropped_; }
   const std::vector<ReceiverSpec>& receivers() const { return params_.receivers; }
   /// Mesh, time step, memory and per-layer resolution (printed by the tool).
@@ -119,6 +120,7 @@ class SoilModel {
   SoilParams params_;
   std::vector<double> sleeper_x_;
   std::vector<size_t> dropped_;
+  size_t dropped_in_zone_ = 0;  // of those, inside the box but in a boundary zone that takes no loads (PML)
   std::unique_ptr<Solver> solver_;
   std::unique_ptr<signal::StreamInterpolator> loads_;
   SampleIndexTracker load_tracker_{"soil_loads"};

@@ -49,6 +49,9 @@ struct SolverOptions {
   bool lateral_rollers = false;
   /// Symmetry planes (u_x = 0 on x = x_min, u_y = 0 on y = y_min), e.g. quarter models.
   bool symmetry_x_min = false, symmetry_y_min = false;
+  /// Antisymmetry planes (the in-plane components vanish: u_y = u_d = 0 on x = x_min, u_x = u_d = 0 on
+  /// y = y_min), e.g. a footing rocking about an axis lying in the plane.
+  bool antisymmetry_x_min = false, antisymmetry_y_min = false;
   /// Fix every bottom node (static tests; instead of the bottom dashpots).
   bool fixed_bottom = false;
   /// Uniform mass-proportional damping alpha M v (1/s) (dynamic relaxation in static tests).

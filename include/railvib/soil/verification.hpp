@@ -62,12 +62,14 @@ struct ThroughputSpec {
   int steps = 20;
   int repeat = 5;
   std::vector<KernelKind> kernels{KernelKind::Element, KernelKind::Stencil};
+  BoundarySpec boundary;  // on the five absorbing faces (default: Lysmer dashpots)
 };
 
 /// One kernel's figures: medians over the repeats.
 struct ThroughputResult {
   KernelKind kernel = KernelKind::Element;
   size_t elements = 0;
+  size_t boundary_elements = 0;  // integrated by the boundary's unit (a PML), not the kernel
   int threads = 0;
   double element_updates_per_s = 0.0;      // whole solver steps, wall clock
   double element_updates_per_cpu_s = 0.0;  // per CPU second of the process (user + sys, all threads)

@@ -29,13 +29,10 @@ TEST(SoilAbsorbing, LayerCutsSurfaceWaveReflection) {
   const LambResult lysmer = runLamb(small);
 
   small.half_width_m = 12.0;  // the layer lies outside the 8 m box of interest
-  small.absorbing_layer_m = 4.0;
-  small.absorbing_layer_alpha_1_s = 60.0;
-  small.absorbing_layer_exponent = 1.0;
-  small.absorbing_layer_bottom = false;
+  small.boundary = ReflectionCase::gradedLayer(4.0, 60.0, 1.0, false).boundary;
   const LambResult layer = runLamb(small);
 
-  small.absorbing_layer_alpha_1_s = 0.0;  // same 12 m box, dashpots only
+  small.boundary = BoundarySpec{};  // same 12 m box, dashpots only
   const LambResult bigger = runLamb(small);
 
   const ReflectionRow r_lysmer = reflectionFigures(lysmer.w_fe[0], a.w_fe[0], a.dt_s);

@@ -57,6 +57,7 @@ struct RunResult {
   std::vector<double> surface_history;   // surface vertical velocity, every step, (nx+1)(ny+1) per step
   std::vector<double> final_u, final_v;  // all nodes, 3 components each, after the last step
   size_t elements = 0;
+  size_t boundary_elements = 0;  // integrated by the boundary's unit
 };
 
 // Threads the runtime really gives a team that asks for 2. OMP_DYNAMIC=true lets
@@ -76,14 +77,32 @@ int twoThreadTeamSize() {
 
 // A deterministic load: two surface patches (off-centre, so nothing is symmetric)
 // driven by a Hann-windowed 40 Hz burst and a 15 Hz ramped sine.
-RunResult run(int threads, Precision precision, KernelKind kernel = KernelKind::Element) {
+BoundarySpec gradedLayer() {  // the absorbing layer (sides, not the bottom)
+  BoundarySpec b;
+  b.method = BoundaryMethod::GradedLayer;
+  b.graded_layer = {2.0, 60.0, 1.0, false};
+  return b;
+}
+
+// A 1.5 m PML on the sides and the bottom: 21 264 layer elements (its unit runs in parallel from 20 000 on,
+// as the kernel), each of its five boxes sweeps >= 2 slabs of planes.
+BoundarySpec pml() {
+  BoundarySpec b;
+  b.method = BoundaryMethod::Pml;
+  b.pml.thickness_m = 1.5;
+  b.pml.alpha_1_s = 10.0;
+  b.pml.perpendicular_ratio = 0.05;  // every direction filtered (the multi-axial path)
+  return b;
+}
+
+RunResult run(int threads, Precision precision, KernelKind kernel = KernelKind::Element,
+              const BoundarySpec& boundary = gradedLayer()) {
   SolverOptions o;
   o.threads = threads;
   o.precision = precision;
   o.kernel = kernel;
-  o.rayleigh_beta_s = 4.0e-4;                       // exercise the damping filter path too
-  o.boundary.method = BoundaryMethod::GradedLayer;  // and the absorbing layer (sides, not the bottom)
-  o.boundary.graded_layer = {2.0, 60.0, 1.0, false};
+  o.rayleigh_beta_s = 4.0e-4;  // exercise the damping filter path too
+  o.boundary = boundary;
   Solver s(layeredMesh(), o);
   const StructuredMesh& m = s.mesh();
   for (size_t p = 0; p < 2; ++p) {
@@ -100,6 +119,7 @@ RunResult run(int threads, Precision precision, KernelKind kernel = KernelKind::
   }
   RunResult r;
   r.elements = m.elementCount();
+  r.boundary_elements = m.elementCount() - s.kernelElements().count();
   const double burst_s = 0.025;
   std::vector<double> surf;
   for (int n = 0; n < kSteps; ++n) {
@@ -243,4 +263,55 @@ TEST(SoilThreads, StencilAndElementKernelRunsAgreeWithinRoundOff) {
   EXPECT_LE(d_stencil, tol) << "float stencil vs double";
   EXPECT_LE(d_double, 1e-12 * peak) << "double, stencil vs element kernel";
   EXPECT_LE(maxAbsDiff(element.final_u, stencil.final_u), tol / peak * maxAbs(dbl_element.final_u));
+}
+
+// The PML's unit (src/soil/boundary_pml.cpp) splits each of its boxes into static slabs of planes and
+// sweeps them in two phases like the kernel: the same determinism for a fixed thread count.
+TEST(SoilThreads, TwoThreadRunsAreBitwiseIdenticalWithPml) {
+  ASSERT_EQ(twoThreadTeamSize(), 2) << "the OpenMP runtime does not give 2 threads (OMP_THREAD_LIMIT?)";
+  const RunResult a = run(2, Precision::Float, KernelKind::Element, pml());
+  const RunResult b = run(2, Precision::Float, KernelKind::Element, pml());
+  ASSERT_GE(a.boundary_elements, 20000u) << "layer too small: its unit would run serially";
+  ASSERT_GT(maxAbs(a.surface_history), 0.0);
+  expectBitwiseEqual(a.surface_history, b.surface_history, "PML: surface velocity history, threads 2 vs 2");
+  expectBitwiseEqual(a.final_u, b.final_u, "PML: final displacement of all nodes, threads 2 vs 2");
+  expectBitwiseEqual(a.final_v, b.final_v, "PML: final velocity of all nodes, threads 2 vs 2");
+}
+
+// 1 vs 2 threads with the PML: the slab planes of the layer's boxes are summed in another order, so the
+// runs differ by round-off only, within the bound of OneAndTwoThreadsAgreeWithinRoundOff.
+TEST(SoilThreads, OneAndTwoThreadsAgreeWithinRoundOffWithPml) {
+  ASSERT_EQ(twoThreadTeamSize(), 2) << "the OpenMP runtime does not give 2 threads (OMP_THREAD_LIMIT?)";
+  const RunResult t1 = run(1, Precision::Float, KernelKind::Element, pml());
+  const RunResult t2 = run(2, Precision::Float, KernelKind::Element, pml());
+  const RunResult dbl = run(1, Precision::Double, KernelKind::Element, pml());
+  const double peak = maxAbs(dbl.surface_history);
+  ASSERT_GT(peak, 0.0);
+  const double tol = kSteps * std::ldexp(1.0, -24) * peak;
+  const double d12 = maxAbsDiff(t1.surface_history, t2.surface_history);
+  const double d1 = maxAbsDiff(t1.surface_history, dbl.surface_history);
+  std::printf("PML: max |diff| / peak: 1 vs 2 threads %.2e, float vs double %.2e, tolerance %.2e\n", d12 / peak,
+              d1 / peak, tol / peak);
+  EXPECT_LE(d12, tol) << "float, 1 thread vs 2 threads";
+  EXPECT_LE(d1, tol) << "float vs double";
+  EXPECT_GT(d12, 0.0) << "1 and 2 threads bitwise equal: the layer's unit did not run in parallel";
+  for (const auto& [a, b, r] :
+       {std::tuple{&t1.final_u, &t2.final_u, &dbl.final_u}, std::tuple{&t1.final_v, &t2.final_v, &dbl.final_v}}) {
+    EXPECT_LE(maxAbsDiff(*a, *b), kSteps * std::ldexp(1.0, -24) * maxAbs(*r));
+  }
+}
+
+// The stencil kernel covers the box inside the PML (the layer's elements belong to the PML's unit): with
+// the PML on the five faces the two kernels still give the same run to float round-off.
+TEST(SoilThreads, StencilAndElementKernelAgreeWithPml) {
+  const RunResult element = run(2, Precision::Float, KernelKind::Element, pml());
+  const RunResult stencil = run(2, Precision::Float, KernelKind::Stencil, pml());
+  const RunResult dbl = run(1, Precision::Double, KernelKind::Element, pml());
+  const double peak = maxAbs(dbl.surface_history);
+  ASSERT_GT(peak, 0.0);
+  const double tol = kSteps * std::ldexp(1.0, -24) * peak;
+  const double d = maxAbsDiff(element.surface_history, stencil.surface_history);
+  std::printf("PML: stencil vs element max |diff| / peak %.2e (tolerance %.2e)\n", d / peak, tol / peak);
+  EXPECT_LE(d, tol);
+  EXPECT_EQ(element.boundary_elements, stencil.boundary_elements);
 }
