@@ -117,6 +117,20 @@ class Cases:
         s = self.run("soil-bench", "damping", "--precision", "float")
         check(all(abs(m["relative_error"]) < 0.2 for m in s["modes"]), s)
 
+    def ssi_bench(self):
+        # Coarse (two meshes, three boxes of a quarter model): no accuracy, but what must hold at any size:
+        # a box with a fixed bottom is stiffer than the half-space, the less the larger it is; a finer mesh
+        # is softer (the footing's edge); the references are the published ones.
+        s = self.run("ssi-bench", "footing-static", "--mode", "vertical", "--h", "0.5,0.25", "--boxes", "2,3,4",
+                     "--tolerance", 1e-4, "--threads", 1)
+        v = s["vertical"]
+        boxes = [r["normalised"] for r in v["box_sweep"]["runs"]]
+        check(len(boxes) == 3 and boxes == sorted(boxes, reverse=True) and boxes[-1] > 0, boxes)
+        meshes = [r["normalised"] for r in v["mesh_sweep"]["runs"]]
+        check(len(meshes) == 2 and meshes[1] < meshes[0], meshes)
+        check(0 < v["fe_normalised"] < boxes[-1], v["fe_normalised"])
+        check(abs(v["gazetas_1991_normalised"] - 4.54) < 1e-9 and abs(v["pais_kausel_1988_normalised"] - 4.7) < 1e-9, v)
+
     # ------------------------------------------------------------------ building
     def building_modes(self):
         s = self.run("building-modes", "--config", CI, "--fmax", 30)
@@ -177,6 +191,7 @@ COMMANDS = {
     "building-tf": "building_tf", "building-response": "building_response",
     "building-footprint": "building_footprint", "metrics": "metrics", "din-check": "din_check",
     "decimator-check": "decimator_check",
+    "ssi-bench": "ssi_bench",
 }
 
 
