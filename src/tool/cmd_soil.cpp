@@ -61,7 +61,7 @@ struct BenchArgs {
   /// The product of the --pml-* lists (none when --pml-thickness is empty).
   std::vector<ReflectionCase> pmlCases() const {
     std::vector<ReflectionCase> cases;
-    if (p.get("pml-thickness").empty()) return cases;
+    if (!p.has("pml-thickness")) return cases;  // has(): given, or a non-empty default (get() would refuse)
     for (double thickness : list("pml-thickness")) {
       for (double r : list("pml-reflection")) {
         for (double n : list("pml-exponent")) {
