@@ -23,6 +23,7 @@ SECTION_SNAPSHOT = "/section_snapshot"
 SENSOR_METRICS = "/sensor_metrics"
 SITE_MARKERS = "/visualization/site"
 SURFACE_CLOUD = "/visualization/surface_velocity"
+RECORDING_STATUS = "/railvib/recording"
 
 RECEIVER_LINE_PREFIX = "line_y"
 BUILDING_RESPONSE_FREE_FIELD_POINT = "bldg_response_point"

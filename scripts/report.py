@@ -30,6 +30,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 
@@ -57,7 +58,7 @@ def read_stream(bag, topic):
         if b.first_sample_index != expected:
             die(f"{topic}: samples {expected}..{b.first_sample_index - 1} missing from the bag")
         expected += b.sample_count
-    if not blocks[-1].end_of_stream:
+    if not blocks[-1].end_of_stream and topic not in INCOMPLETE:
         INCOMPLETE.append(topic)
     return blocks
 
@@ -130,6 +131,14 @@ def main(argv):
     if not bag_path.exists():
         die(f"no such bag: {bag_path}")
     outdir = pathlib.Path(argv[2]) if len(argv) > 2 else bag_path.with_name(bag_path.stem + "_report")
+    # Every expected stream, its type and its blocks first (scripts/bag_check.py): a foreign or
+    # malformed bag is refused here; an incomplete one is reported, then drawn as far as it goes.
+    checked = bag_check.check_bag(bag_path)
+    if checked.refused:
+        die(checked.refused)
+    for finding in checked.findings:
+        print("railvib report: " + finding, file=sys.stderr)
+    INCOMPLETE.extend(checked.incomplete)
     outdir.mkdir(parents=True, exist_ok=True)
     try:
         bag = rosbag.Bag(str(bag_path))
@@ -289,7 +298,7 @@ def main(argv):
     if INCOMPLETE:
         print("railvib report: incomplete run, streams stopped early: " + ", ".join(INCOMPLETE), file=sys.stderr)
         return 1
-    return 0
+    return 1 if checked.code else 0
 
 
 if __name__ == "__main__":

@@ -1,7 +1,14 @@
 #include "railvib/common/config.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -15,6 +22,10 @@ struct ConfigData {
   std::string file;
   // leaf or section key path -> file that set it
   std::map<std::string, std::string> sources;
+  // Key paths the loaders asked for (list indices as "[]"), and the subtrees of inactive
+  // alternatives (siblings named after a choice's other values): refuseUnknownKeys() knows both.
+  mutable std::set<std::string> queried;
+  mutable std::set<std::string> inactive;
 };
 }  // namespace detail
 
@@ -37,6 +48,216 @@ std::string describeValue(const YAML::Node& value) {
   out << YAML::Flow << value;
   std::string text = out.c_str();
   if (text.size() > 80) text = text.substr(0, 77) + "...";
+  return text;
+}
+
+// "soil.layers[3].thickness_m" -> "soil.layers[].thickness_m": one key for every entry of a list.
+std::string normalizedPath(const std::string& path) {
+  std::string out;
+  out.reserve(path.size());
+  for (size_t i = 0; i < path.size(); ++i) {
+    out += path[i];
+    if (path[i] == '[') {
+      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
+    }
+  }
+  return out;
+}
+
+std::string parentOf(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? std::string() : path.substr(0, dot);
+}
+
+std::string lastKeyOf(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// Parse events of one YAML text, checked before yaml-cpp builds its node graph: no repeated key in
+// a map, keys are plain scalars, bounded nesting, and bounded aliases (an alias of an anchor
+// holding aliases, no deeper; bounded size once expanded), so an alias bomb is refused before it
+// is walked.
+class StrictYamlChecker : public YAML::EventHandler {
+ public:
+  explicit StrictYamlChecker(std::string label) : label_(std::move(label)) {}
+
+  void OnDocumentStart(const YAML::Mark&) override {
+    if (++documents_ > 1) throw ConfigError("config error in " + label_ + ": more than one YAML document");
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { leaf(mark, anchor, "~"); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
+    leaf(mark, anchor, value);
+  }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    if (!stack_.empty() && stack_.back().is_map && stack_.back().expect_key) {
+      fail(mark, "an alias cannot be a key");
+    }
+    const auto it = anchors_.find(anchor);
+    const size_t size = it == anchors_.end() ? 1 : it->second.size;
+    const int depth = (it == anchors_.end() ? 0 : it->second.alias_depth) + 1;
+    if (depth > kMaxAliasDepth) {
+      fail(mark, "aliases nested " + std::to_string(depth) + " deep (an anchor that holds aliases of anchors " +
+                     "that hold aliases...); at most " + std::to_string(kMaxAliasDepth) + " allowed");
+    }
+    add(mark, size, depth);
+    valueDone();
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
+                       YAML::EmitterStyle::value) override {
+    open(mark, anchor, false);
+  }
+  void OnSequenceEnd() override { close(); }
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
+                  YAML::EmitterStyle::value) override {
+    open(mark, anchor, true);
+  }
+  void OnMapEnd() override { close(); }
+
+ private:
+  struct Frame {
+    bool is_map = false;
+    bool expect_key = true;
+    std::map<std::string, int> keys;  // key -> line
+    std::string path;
+    std::string pending_key;
+    YAML::anchor_t anchor = 0;
+    size_t size = 1;
+    int alias_depth = 0;
+  };
+  struct Anchor {
+    size_t size = 1;
+    int alias_depth = 0;
+  };
+
+  [[noreturn]] void fail(const YAML::Mark& mark, const std::string& reason) const {
+    throw ConfigError("config error in " + label_ + ":" + std::to_string(mark.line + 1) + ": " + reason);
+  }
+  std::string here() const { return stack_.empty() ? std::string() : stack_.back().path; }
+  std::string childPath() const {
+    if (stack_.empty()) return "";
+    const Frame& f = stack_.back();
+    return f.is_map ? joinPath(f.path, f.pending_key) : f.path + "[]";
+  }
+  void add(const YAML::Mark& mark, size_t nodes, int alias_depth) {
+    total_ += nodes;
+    if (total_ > kMaxExpandedNodes) {
+      fail(mark, "more than " + std::to_string(kMaxExpandedNodes) + " values once its aliases are expanded");
+    }
+    if (!stack_.empty()) {
+      stack_.back().size += nodes;
+      stack_.back().alias_depth = std::max(stack_.back().alias_depth, alias_depth);
+    }
+  }
+  // A value (scalar, alias or collection) ended: the next scalar of a map is a key again.
+  void valueDone() {
+    if (!stack_.empty() && stack_.back().is_map) stack_.back().expect_key = true;
+  }
+  void leaf(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& value) {
+    if (!stack_.empty() && stack_.back().is_map && stack_.back().expect_key) {
+      Frame& f = stack_.back();
+      const auto [it, inserted] = f.keys.emplace(value, mark.line + 1);
+      if (!inserted) {
+        fail(mark, "duplicate key '" + joinPath(f.path, value) + "' (first set at line " + std::to_string(it->second) +
+                       "); a repeated key would silently keep one of the values");
+      }
+      f.pending_key = value;
+      f.expect_key = false;
+      add(mark, 1, 0);
+      return;
+    }
+    if (anchor) anchors_[anchor] = Anchor{1, 0};
+    add(mark, 1, 0);
+    valueDone();
+  }
+  void open(const YAML::Mark& mark, YAML::anchor_t anchor, bool is_map) {
+    if (!stack_.empty() && stack_.back().is_map && stack_.back().expect_key) {
+      fail(mark, "a key must be a plain name, not a " + std::string(is_map ? "map" : "list"));
+    }
+    if (static_cast<int>(stack_.size()) >= kMaxConfigNesting) {
+      fail(mark, "nested deeper than " + std::to_string(kMaxConfigNesting) + " levels");
+    }
+    Frame f;
+    f.is_map = is_map;
+    f.path = childPath();
+    f.anchor = anchor;
+    stack_.push_back(std::move(f));
+  }
+  void close() {
+    Frame f = std::move(stack_.back());
+    stack_.pop_back();
+    if (f.anchor) anchors_[f.anchor] = Anchor{f.size, f.alias_depth};
+    // The nodes inside were already counted in total_; the parent's subtree grows by them.
+    if (!stack_.empty()) {
+      stack_.back().size += f.size;
+      stack_.back().alias_depth = std::max(stack_.back().alias_depth, f.alias_depth);
+    }
+    valueDone();
+  }
+
+  std::string label_;
+  std::vector<Frame> stack_;
+  std::map<YAML::anchor_t, Anchor> anchors_;
+  size_t total_ = 0;
+  int documents_ = 0;
+};
+
+// Parse one YAML text after the strict checks; `label` names it in errors.
+YAML::Node parseStrict(const std::string& text, const std::string& label) {
+  if (text.size() > kMaxConfigBytes) {
+    throw ConfigError("config error in " + label + ": " + std::to_string(text.size()) + " bytes, more than the " +
+                      std::to_string(kMaxConfigBytes) + " a configuration may have");
+  }
+  try {
+    // yaml-cpp's own parse first, for its syntax errors; its node graph shares aliased nodes, so
+    // an alias bomb is small until walked, and the checker refuses it before anything walks it.
+    YAML::Node root = YAML::Load(text);
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    StrictYamlChecker checker(label);
+    while (parser.HandleNextDocument(checker)) {
+    }
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("config error in " + label + ": not valid YAML: " + e.what());
+  }
+}
+
+// The text of a config file: a regular, readable file of bounded size.
+std::string readConfigText(const fs::path& file) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st)) throw ConfigError("config error: file not found: " + file.string());
+  if (fs::is_directory(st)) throw ConfigError("config error: " + file.string() + " is a directory, not a config file");
+  if (!fs::is_regular_file(st)) throw ConfigError("config error: " + file.string() + " is not a regular file");
+  const auto size = fs::file_size(file, ec);
+  if (!ec && size > kMaxConfigBytes) {
+    throw ConfigError("config error in " + file.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                      std::to_string(kMaxConfigBytes) + " a configuration may have");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ConfigError("config error: cannot read " + file.string() + ": " + std::strerror(errno));
+  std::string text;
+  text.resize(kMaxConfigBytes + 1);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<size_t>(in.gcount()));
+  if (in.bad()) throw ConfigError("config error: cannot read " + file.string());
   return text;
 }
 
@@ -74,15 +295,7 @@ YAML::Node loadFileRecursive(const fs::path& file, std::map<std::string, std::st
       throw ConfigError("config error: include cycle through " + canonical.string());
     }
   }
-  if (!fs::exists(canonical)) {
-    throw ConfigError("config error: file not found: " + file.string());
-  }
-  YAML::Node doc;
-  try {
-    doc = YAML::LoadFile(canonical.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("config error in " + canonical.string() + ": not valid YAML: " + e.what());
-  }
+  YAML::Node doc = parseStrict(readConfigText(canonical), canonical.string());
   if (doc.IsNull()) doc = YAML::Node(YAML::NodeType::Map);
   if (!doc.IsMap()) {
     throw ConfigError("config error in " + canonical.string() + ": top level must be a map of sections");
@@ -96,7 +309,11 @@ YAML::Node loadFileRecursive(const fs::path& file, std::map<std::string, std::st
                         ": must be a list of file names");
     }
     for (const auto& inc : includes) {
-      const fs::path inc_path = canonical.parent_path() / inc.as<std::string>();
+      if (!inc.IsScalar() || inc.Scalar().empty()) {
+        throw ConfigError("config error in " + canonical.string() + ": include entry " + describeValue(inc) +
+                          ": must be a file name");
+      }
+      const fs::path inc_path = canonical.parent_path() / inc.Scalar();
       merged = deepMerge(merged, loadFileRecursive(inc_path, sources, stack));
     }
     doc.remove("include");
@@ -115,9 +332,9 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
   const std::string path = assignment.substr(0, eq);
   YAML::Node value;
   try {
-    value = YAML::Load(assignment.substr(eq + 1));
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("config error: override '" + assignment + "': value is not valid YAML");
+    value = parseStrict(assignment.substr(eq + 1), "override '" + assignment + "'");
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string(e.what()) + " (the value of an override is parsed as YAML)");
   }
   // Walk and create maps along the path. yaml-cpp node assignment rebinds
   // references, so rebuild the chain from the leaf upwards.
@@ -137,6 +354,14 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
   recordSources(overlay, "", "command-line override '" + assignment + "'", data.sources);
 }
 
+}  // namespace
+
+namespace {
+std::string magnitudeReason() {
+  std::ostringstream s;
+  s << "beyond the magnitude of any value of a railvib scenario (|value| <= " << kMaxConfigMagnitude << " in SI units)";
+  return s.str();
+}
 }  // namespace
 
 bool Range::contains(double v) const {
@@ -179,12 +404,39 @@ void ConfigNode::failValue(const std::string& key, const YAML::Node& value, cons
                     fileOf(key) + "]");
 }
 
+void ConfigNode::record(const std::string& key) const { data_->queried.insert(normalizedPath(childPath(key))); }
+
+void ConfigNode::markKnown(const std::string& key) const { data_->inactive.insert(normalizedPath(childPath(key))); }
+
 bool ConfigNode::has(const std::string& key) const {
+  record(key);
   return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
 }
 
 YAML::Node ConfigNode::required(const std::string& key) const {
-  if (!has(key)) failValue(key, YAML::Node(), "required key is missing");
+  if (!has(key)) {
+    // A present key a few letters away is most likely the intended one, misspelt.
+    // Ties (x_min_mm and y_min_m are both one edit from x_min_m) go to the longer common prefix:
+    // a slip is more often at the end of a name than at its start.
+    std::string near;
+    size_t best = std::string::npos, best_prefix = 0;
+    if (node_.IsMap()) {
+      for (const auto& kv : node_) {
+        const std::string k = kv.first.as<std::string>();
+        const size_t d = editDistance(k, key);
+        size_t prefix = 0;
+        while (prefix < k.size() && prefix < key.size() && k[prefix] == key[prefix]) ++prefix;
+        if (k != key && d <= std::max<size_t>(2, key.size() / 3) && (d < best || (d == best && prefix > best_prefix))) {
+          best = d;
+          best_prefix = prefix;
+          near = k;
+        }
+      }
+    }
+    failValue(key, YAML::Node(),
+              near.empty() ? "required key is missing"
+                           : "required key is missing (is '" + childPath(near) + "' a misspelling of it?)");
+  }
   return node_[key];
 }
 
@@ -216,6 +468,7 @@ double ConfigNode::number(const std::string& key, const Range& range) const {
   }
   if (!std::isfinite(v)) failValue(key, value, "must be a finite number; allowed range " + range.describe());
   if (!range.contains(v)) failValue(key, value, "out of range; allowed range " + range.describe());
+  if (std::abs(v) > kMaxConfigMagnitude) failValue(key, value, magnitudeReason());
   return v;
 }
 
@@ -255,7 +508,12 @@ bool ConfigNode::flag(const std::string& key, bool default_value) const { return
 std::string ConfigNode::choice(const std::string& key, const std::vector<std::string>& allowed) const {
   const std::string v = text(key);
   for (const auto& a : allowed) {
-    if (a == v) return v;
+    if (a != v) continue;
+    // Sibling sections named after the other allowed values are the alternatives not chosen.
+    for (const auto& other : allowed) {
+      if (other != v && node_.IsMap() && node_[other].IsDefined() && node_[other].IsMap()) markKnown(other);
+    }
+    return v;
   }
   std::string list;
   for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
@@ -301,6 +559,8 @@ std::vector<double> ConfigNode::numbers(const std::string& key, const Range& ran
     if (!std::isfinite(v) || !range.contains(v)) {
       failValue(key, value, "entry " + describeValue(item) + " out of range; allowed range " + range.describe());
     }
+    if (std::abs(v) > kMaxConfigMagnitude)
+      failValue(key, value, "entry " + describeValue(item) + ": " + magnitudeReason());
     out.push_back(v);
   }
   return out;
@@ -336,11 +596,7 @@ Config Config::load(const std::string& file, const std::vector<std::string>& ove
 
 Config Config::fromString(const std::string& yaml_text, const std::string& label) {
   auto data = std::make_shared<detail::ConfigData>();
-  try {
-    data->root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("config error in " + label + ": not valid YAML: " + e.what());
-  }
+  data->root = parseStrict(yaml_text, label);
   if (data->root.IsNull()) data->root = YAML::Node(YAML::NodeType::Map);
   if (!data->root.IsMap()) throw ConfigError("config error in " + label + ": top level must be a map");
   data->file = label;
@@ -357,5 +613,98 @@ std::string Config::dump() const {
 }
 
 const std::string& Config::file() const { return data_->file; }
+
+namespace {
+
+struct UnknownKeyWalk {
+  const detail::ConfigData& data;
+  std::vector<std::string>& lines;
+
+  bool known(const std::string& normalized) const {
+    if (data.queried.count(normalized)) return true;
+    // Inside an inactive alternative (or a subtree marked known).
+    for (std::string p = normalized; !p.empty(); p = parentOf(p)) {
+      if (data.inactive.count(p)) return true;
+    }
+    return false;
+  }
+
+  // The valid keys next to `normalized`: what the loaders asked for under the same parent.
+  std::vector<std::string> siblings(const std::string& normalized) const {
+    const std::string parent = parentOf(normalized);
+    std::vector<std::string> out;
+    for (const std::set<std::string>* set : {&data.queried, &data.inactive}) {
+      for (const auto& q : *set) {
+        if (parentOf(q) == parent && (!parent.empty() || q.find('.') == std::string::npos)) {
+          out.push_back(lastKeyOf(q));
+        }
+      }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  std::string sourceOf(std::string path) const {
+    for (; !path.empty(); path = parentOf(path)) {
+      const auto it = data.sources.find(path);
+      if (it != data.sources.end()) return it->second;
+    }
+    return data.file;
+  }
+
+  std::string hint(const std::string& path) const {
+    const std::string normalized = normalizedPath(path);
+    const std::string key = lastKeyOf(normalized);
+    const std::vector<std::string> valid = siblings(normalized);
+    if (valid.empty()) return "no key is read here";
+    std::string best;
+    size_t best_distance = std::string::npos;
+    for (const auto& v : valid) {
+      const size_t d = editDistance(key, v);
+      if (d < best_distance) {
+        best_distance = d;
+        best = v;
+      }
+    }
+    const std::string prefix = parentOf(path).empty() ? "" : parentOf(path) + ".";
+    if (best_distance <= std::max<size_t>(2, key.size() / 3)) return "did you mean " + prefix + best + "?";
+    std::string list;
+    for (const auto& v : valid) list += (list.empty() ? "" : ", ") + v;
+    return "valid keys here: " + list;
+  }
+
+  void walk(const YAML::Node& node, const std::string& path) {
+    if (node.IsMap()) {
+      for (const auto& kv : node) {
+        const std::string child = joinPath(path, kv.first.as<std::string>());
+        if (!known(normalizedPath(child))) {
+          lines.push_back("config error: " + child + " = " + describeValue(kv.second) + ": unknown key, " +
+                          hint(child) + " [file " + sourceOf(child) + "]");
+          continue;
+        }
+        walk(kv.second, child);
+      }
+    } else if (node.IsSequence()) {
+      for (size_t i = 0; i < node.size(); ++i) walk(node[i], path + "[" + std::to_string(i) + "]");
+    }
+  }
+};
+
+}  // namespace
+
+std::vector<std::string> Config::unknownKeys() const {
+  std::vector<std::string> lines;
+  UnknownKeyWalk{*data_, lines}.walk(data_->root, "");
+  return lines;
+}
+
+void Config::refuseUnknownKeys() const {
+  const std::vector<std::string> lines = unknownKeys();
+  if (lines.empty()) return;
+  std::string message;
+  for (const auto& l : lines) message += (message.empty() ? "" : "\n") + l;
+  throw ConfigError(message);
+}
 
 }  // namespace railvib

@@ -27,8 +27,8 @@ SiteLayout loadSiteLayout(const ConfigNode& root) {
   for (const ConfigNode& sensor : site.sectionList("ground_sensors")) {
     NamedPoint p;
     p.name = sensor.text("name");
-    p.x_m = sensor.number("x_m", Range::any());
-    p.y_m = sensor.number("y_m", Range::any());
+    p.x_m = sensor.number("x_m", Range::open(-1.0e5, 1.0e5));
+    p.y_m = sensor.number("y_m", Range::open(-1.0e5, 1.0e5));
     if (!names.insert(p.name).second) sensor.fail("name", "duplicate sensor name");
     layout.ground_sensors.push_back(p);
   }
@@ -36,7 +36,7 @@ SiteLayout loadSiteLayout(const ConfigNode& root) {
     BuildingPlacement placement = buildingPlan(root);
     const ConfigNode building = site.section("building");
     // The front wall is centred on center_x_m: the frame origin is its low-x outer corner.
-    placement.origin_x_m = building.number("center_x_m", Range::any()) - 0.5 * placement.length_m;
+    placement.origin_x_m = building.number("center_x_m", Range::open(-1.0e5, 1.0e5)) - 0.5 * placement.length_m;
     placement.origin_y_m =
         layout.exterior_rail_y_m + building.number("front_wall_distance_from_rail_m", Range::positive());
     layout.building = placement;
@@ -63,8 +63,9 @@ TrackLayout loadTrackLayout(const ConfigNode& root) {
   const ConfigNode track = root.section("track");
   const ConfigNode sleeper = track.section("sleeper");
   TrackLayout layout;
-  layout.spacing_m = sleeper.number("spacing_m", Range{0.0, 5.0, true, false});
-  layout.offset_m = sleeper.number("offset_m", Range::any(), 0.0);
+  // Real sleeper spacings are 0.6-0.75 m; the bounds keep the sleeper indices far from overflow.
+  layout.spacing_m = sleeper.number("spacing_m", Range::closed(0.05, 5.0));
+  layout.offset_m = sleeper.number("offset_m", Range::open(-1.0e5, 1.0e5), 0.0);
   layout.length_m = sleeper.number("length_m", Range::open(0.0, 10.0));
   layout.width_m = sleeper.number("width_m", Range::open(0.0, 10.0));
   const ConfigNode extent = track.section("extent");

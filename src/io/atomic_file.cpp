@@ -26,8 +26,9 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::commit() {
   out_.flush();
-  if (!out_) throw std::runtime_error("write failed: " + path_);
+  if (!out_) throw std::runtime_error("write failed: " + path_ + " (disk full?)");
   out_.close();
+  if (!out_) throw std::runtime_error("write failed: " + path_ + " (disk full?)");
   std::filesystem::rename(temp_path_, path_);
   committed_ = true;
 }

@@ -3,6 +3,7 @@
 #include <ros/ros.h>
 
 #include "railvib/ros/bag_recorder.hpp"
+#include "railvib/ros/node_config.hpp"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "bag_recorder");
@@ -16,9 +17,10 @@ int main(int argc, char** argv) {
     }
     recorder.close(ros::ok() ? "finished" : "interrupted");
     ros::WallDuration(0.2).sleep();  // let the latched status go out
-    return recorder.failed() ? 1 : 0;
+    // Non-zero unless every stream is in the bag, whole: an interrupted run is a failed run.
+    return recorder.failed() || !recorder.complete() ? 1 : 0;
   } catch (const std::exception& e) {
-    ROS_FATAL("bag_recorder: %s", e.what());
+    railvib::ros_io::reportStartFailure("recorder", e.what());
     return 1;
   }
 }

@@ -1,11 +1,18 @@
 #include "railvib/ros/bag_recorder.hpp"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <std_msgs/Header.h>
 #include <std_msgs/String.h>
+#include <sys/statvfs.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <boost/bind/bind.hpp>
+#include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "railvib/common/names.hpp"
 
 namespace railvib::ros_io {
 
@@ -49,6 +56,13 @@ ros::Time latestTransformStamp(std::vector<uint8_t>& bytes) {
   return latest;
 }
 
+// Bytes free for this process on the file system holding `path` (-1 if unknown).
+double freeBytes(const std::string& path) {
+  struct statvfs st {};
+  if (::statvfs(path.c_str(), &st) != 0) return -1.0;
+  return static_cast<double>(st.f_bavail) * static_cast<double>(st.f_frsize);
+}
+
 std_msgs::Header readHeader(std::vector<uint8_t>& bytes) {
   std_msgs::Header h;
   ros::serialization::IStream in(bytes.data(), static_cast<uint32_t>(bytes.size()));
@@ -66,15 +80,35 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   std::string compression;
   private_nh.param<std::string>("compression", compression, "lz4");
   private_nh.param("linger_s", linger_s_, linger_s_);
+  private_nh.param("min_free_mb", min_free_mb_, min_free_mb_);
   if (streams.empty() && topics.empty()) throw std::runtime_error("bag_recorder: no ~streams or ~topics to record");
-
-  const auto parent = std::filesystem::path(bag_path_).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-  bag_.open(bag_path_, rosbag::bagmode::Write);
-  bag_.setCompression(compression == "none" ? rosbag::compression::Uncompressed : rosbag::compression::LZ4);
-  open_ = true;
+  expected_streams_.clear();
+  for (const auto& st : streams) expected_streams_.push_back(nh.resolveName(st));
 
   status_publisher_ = private_nh.advertise<std_msgs::String>("status", 1, true);
+  diagnostics_publisher_ = nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 1, true);
+  // Never overwrite a bag: an earlier run's results stay (./railvib run picks a new name for its default).
+  std::error_code ec;
+  if (std::filesystem::exists(std::filesystem::symlink_status(bag_path_, ec))) {
+    throw std::runtime_error("bag_recorder: " + bag_path_ +
+                             " exists: refusing to overwrite it (move it away, or record to another bag:=FILE)");
+  }
+  const auto parent = std::filesystem::path(bag_path_).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+  space_path_ = parent.empty() ? std::string(".") : parent.string();
+  try {
+    bag_.open(bag_path_, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    throw std::runtime_error("bag_recorder: cannot write " + bag_path_ + ": " + e.what());
+  }
+  bag_.setCompression(compression == "none" ? rosbag::compression::Uncompressed : rosbag::compression::LZ4);
+  open_ = true;
+  if (!roomToWrite(0)) {
+    failed_ = true;
+    close("disk full before the first message");
+    throw std::runtime_error("bag_recorder: disk full: " + describeSpace());
+  }
+
   enum class Kind { Stream, Stamped, Tf };
   auto subscribe = [&](const std::string& name, Kind kind) {
     const std::string resolved = nh.resolveName(name);
@@ -110,6 +144,11 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
   try {
     if (state.is_stream) {
       const StreamPrefix p = readStreamPrefix(bytes);
+      if (!(std::isfinite(p.sample_period_s) && p.sample_period_s > 0.0)) {
+        throw StreamGapError("stream '" + topic + "': sample_period_s = " + std::to_string(p.sample_period_s) +
+                             " is not a positive period (block at sample " + std::to_string(p.first_sample_index) +
+                             ")");
+      }
       state.tracker->accept(p.first_sample_index, p.sample_count);
       stamp = p.header.stamp;
       ends_stream = p.end_of_stream;
@@ -121,7 +160,7 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
   } catch (const StreamGapError& e) {
     ROS_FATAL("bag_recorder: %s", e.what());
     failed_ = true;
-    close(std::string("stream gap: ") + e.what());
+    close(std::string("stream error: ") + e.what());
     return;
   } catch (const ros::Exception& e) {
     ROS_FATAL("bag_recorder: %s: message does not start like a railvib stream block: %s", topic.c_str(), e.what());
@@ -131,10 +170,26 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
   }
   // Bag times must be >= TIME_MIN; simulation time starts at 0.
   if (stamp < ros::TIME_MIN) stamp = ros::TIME_MIN;
-  bag_.write(topic, stamp, *msg, event.getConnectionHeaderPtr());
+  // Stop while there is still room to close the bag (last chunk, index): it stays readable.
+  if (!roomToWrite(bytes.size())) {
+    ROS_FATAL("bag_recorder: disk full: %s; recording stopped before %s", describeSpace().c_str(), topic.c_str());
+    failed_ = true;
+    close("disk full: " + describeSpace());
+    return;
+  }
+  try {
+    bag_.write(topic, stamp, *msg, event.getConnectionHeaderPtr());
+  } catch (const rosbag::BagException& e) {
+    ROS_FATAL("bag_recorder: writing %s failed: %s (%s)", topic.c_str(), e.what(), describeSpace().c_str());
+    failed_ = true;
+    close(std::string("write error: ") + e.what() + " (" + describeSpace() + ")");
+    return;
+  }
+  if (stamp > latest_stamp_) latest_stamp_ = stamp;
   if (state.messages == 0) state.first_stamp = stamp;
   state.last_stamp = stamp;
   ++state.messages;
+  ++message_count_;
   if (ends_stream) {
     state.ended = true;
     bool all_ended = true;
@@ -155,18 +210,97 @@ void BagRecorder::poll() {
   }
 }
 
+bool BagRecorder::roomToWrite(size_t next_bytes) const {
+  const double free = freeBytes(space_path_);
+  if (free < 0.0) return true;  // unknown: rely on the write errors
+  // The chunk in memory (rosbag flushes it at ~768 KB), its index, the connection and chunk records
+  // written at close, and the next message must still fit.
+  const double reserve =
+      min_free_mb_ * 1e6 + 32.0 * static_cast<double>(message_count_) + static_cast<double>(next_bytes);
+  return free >= reserve;
+}
+
+std::string BagRecorder::describeSpace() const {
+  const double free = freeBytes(space_path_);
+  std::ostringstream s;
+  s.precision(3);
+  s << (free < 0.0 ? std::string("free space unknown")
+                   : std::to_string(static_cast<long long>(free / 1e6)) + " MB free")
+    << " on the file system of " << space_path_ << ", " << min_free_mb_ << " MB kept to close the bag";
+  return s.str();
+}
+
+std::vector<std::string> BagRecorder::incompleteStreams() const {
+  std::vector<std::string> out;
+  for (const auto& name : expected_streams_) {
+    const auto it = topics_.find(name);
+    if (it == topics_.end() || !it->second.ended) out.push_back(name);
+  }
+  return out;
+}
+
+void BagRecorder::writeRecordingStatus(const std::string& status) {
+  nlohmann::json j;
+  j["status"] = status;
+  j["expected_streams"] = expected_streams_;
+  std::vector<std::string> complete;
+  for (const auto& name : expected_streams_) {
+    const auto it = topics_.find(name);
+    if (it != topics_.end() && it->second.ended) complete.push_back(name);
+  }
+  j["complete_streams"] = complete;
+  j["incomplete_streams"] = incompleteStreams();
+  nlohmann::json counts = nlohmann::json::object();
+  for (const auto& [name, state] : topics_) counts[name] = state.messages;
+  j["messages"] = counts;
+  std_msgs::String msg;
+  msg.data = j.dump();
+  bag_.write(names::kRecordingStatusTopic, std::max(latest_stamp_, ros::TIME_MIN), msg);
+}
+
 void BagRecorder::close(const std::string& reason) {
   if (!open_) return;
-  bag_.close();
   open_ = false;
+  const std::vector<std::string> incomplete = incompleteStreams();
+  const std::string status = (failed_ ? "failed: " : "closed: ") + reason;
+  bool indexed = true;
+  try {
+    writeRecordingStatus(status);
+  } catch (const rosbag::BagException& e) {
+    ROS_ERROR("bag_recorder: could not record the status in the bag: %s", e.what());
+  }
+  try {
+    bag_.close();
+  } catch (const rosbag::BagException& e) {
+    indexed = false;
+    ROS_FATAL("bag_recorder: closing %s failed: %s; the bag is left unindexed (`rosbag reindex` may recover it)",
+              bag_path_.c_str(), e.what());
+  }
   for (const auto& [name, state] : topics_) {
     ROS_INFO("bag_recorder: %-32s %8lu messages%s", name.c_str(), static_cast<unsigned long>(state.messages),
              state.is_stream ? (state.ended ? "  (stream complete)" : "  (stream NOT complete)") : "");
   }
-  ROS_INFO("bag_recorder: closed %s (%s)", bag_path_.c_str(), reason.c_str());
-  std_msgs::String status;
-  status.data = failed_ ? "failed: " + reason : "closed: " + reason;
-  status_publisher_.publish(status);
+  if (!incomplete.empty()) {
+    std::string list;
+    for (const auto& n : incomplete) list += (list.empty() ? "" : ", ") + n;
+    ROS_ERROR("bag_recorder: incomplete streams: %s", list.c_str());
+  }
+  ROS_INFO("bag_recorder: closed %s (%s)%s", bag_path_.c_str(), reason.c_str(), indexed ? "" : " UNINDEXED");
+  std_msgs::String msg;
+  msg.data = status;
+  status_publisher_.publish(msg);
+  // Like every node: its end on /diagnostics, ERROR when the recording failed or is not whole.
+  diagnostic_msgs::DiagnosticArray diag;
+  diagnostic_msgs::DiagnosticStatus st;
+  st.name = "railvib/recorder";
+  st.hardware_id = "recorder";
+  st.level =
+      failed_ || !incomplete.empty() ? diagnostic_msgs::DiagnosticStatus::ERROR : diagnostic_msgs::DiagnosticStatus::OK;
+  st.message = status;
+  diag.status.push_back(st);
+  diagnostics_publisher_.publish(diag);
 }
+
+bool BagRecorder::complete() const { return incompleteStreams().empty(); }
 
 }  // namespace railvib::ros_io

@@ -4,6 +4,7 @@
 
 #include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/soil/soil_params.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
@@ -15,6 +16,8 @@ BuildingNode::BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   model_ = std::make_unique<building::BuildingModel>(params);
   footprint_ = building::footprintPoints(params);
   status_ = std::make_unique<NodeStatus>(nh, "building", vehicle::loadPassageParams(config.root()).duration_s);
+  limits_ = loadStreamLimits(config.root());
+  receiver_rate_hz_ = soil::loadReceiverRateHz(config.root());
   int required_subscribers = 1;
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   publisher_ = BlockPublisher<railvib::BuildingResponse>(nh, names::kBuildingResponseTopic, required_subscribers);
@@ -26,30 +29,54 @@ BuildingNode::BuildingNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 
 void BuildingNode::onLayout(const railvib::PointLayout::ConstPtr& layout) {
   if (gate_.isOpen() || status_->failed()) return;
-  receiver_of_footprint_.clear();
-  for (const auto& f : footprint_) {
-    const auto it = std::find(layout->names.begin(), layout->names.end(), f.name);
-    if (it == layout->names.end()) {
-      status_->fail("footprint point '" + f.name +
-                    "' is not among the soil receivers (soil must include the footprint)");
-      return;
+  status_->guard([&] {
+    std::vector<double> xyz;
+    for (const auto& p : layout->positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+    validatePointLayout(layout_subscriber_.getTopic(), layout->names, layout->positions.size(), xyz,
+                        limits_.max_points);
+    receiver_of_footprint_.clear();
+    for (const auto& f : footprint_) {
+      const auto it = std::find(layout->names.begin(), layout->names.end(), f.name);
+      if (it == layout->names.end()) {
+        throw StreamContractError("stream " + layout_subscriber_.getTopic() + ": footprint point '" + f.name +
+                                  "' is not among the soil receivers (soil must include the footprint)");
+      }
+      receiver_of_footprint_.push_back(static_cast<size_t>(it - layout->names.begin()));
     }
-    receiver_of_footprint_.push_back(static_cast<int>(it - layout->names.begin()));
-  }
-  gate_.open();
+    receiver_count_ = static_cast<uint32_t>(layout->names.size());
+    gate_.open();
+  });
 }
 
 void BuildingNode::onVelocities(const railvib::SurfaceVelocities::ConstPtr& msg) {
   gate_.run([this, msg] {
-    if (!ended_) status_->guard([&] { consume(*msg); });
+    status_->guard([&] {
+      if (ended_) {
+        throw StreamContractError("stream " + velocity_subscriber_.getTopic() + ": a block (first_sample_index " +
+                                  std::to_string(msg->first_sample_index) + ") after the end_of_stream block");
+      }
+      consume(*msg);
+    });
   });
 }
 
 void BuildingNode::consume(const railvib::SurfaceVelocities& msg) {
   if (!gate_.isOpen()) throw std::runtime_error("surface velocities arrived before the receiver layout");
-  if (msg.velocity_m_s.size() != static_cast<size_t>(msg.sample_count) * msg.receiver_count * 3) {
-    throw std::runtime_error("malformed SurfaceVelocities block");
-  }
+  // Counts, period and values against the layout and the config, before any index is used.
+  BlockContract contract;
+  contract.stream = velocity_subscriber_.getTopic();
+  contract.sample_period_s = 1.0 / receiver_rate_hz_;
+  contract.period_source = "soil.output.receiver_rate_hz = " + formatValue(receiver_rate_hz_) + " Hz";
+  contract.count_field = "receiver_count";
+  contract.point_label = "receiver";
+  contract.point_count = receiver_count_;
+  contract.point_source = "the surface_points layout";
+  contract.max_block_samples = limits_.max_block_samples;
+  validateBlock(
+      contract,
+      {msg.first_sample_index, msg.end_of_stream != 0, msg.sample_period_s, msg.sample_count, msg.receiver_count},
+      {{"velocity_m_s", &msg.velocity_m_s, 3, limits_.velocity_m_s, "limits.velocity_m_s", "m/s"}});
+  tracker_.accept(msg.first_sample_index, msg.sample_count);
   if (!solver_) {
     solver_ = std::make_unique<building::BuildingResponseSolver>(*model_, msg.sample_period_s);
     railvib::PointLayout layout;

@@ -1,20 +1,112 @@
 #include "railvib/ros/node_config.hpp"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "railvib/common/names.hpp"
+#include "railvib/scenario/scenario.hpp"
+
 namespace railvib::ros_io {
+
+const std::vector<std::pair<std::string, std::string>>& launchArgumentKeys() {
+  static const std::vector<std::pair<std::string, std::string>> keys{{"speed", "simulation.speed_m_s"},
+                                                                     {"duration", "simulation.duration_s"},
+                                                                     {"foundation", "track.foundation.model"},
+                                                                     {"track", "simulation.vehicle_track"},
+                                                                     {"coupling", "building.coupling"},
+                                                                     {"vehicle", "vehicle.name"}};
+  return keys;
+}
+
+std::vector<std::string> launchArgumentOverrides(const std::vector<std::pair<std::string, std::string>>& arguments) {
+  std::vector<std::string> overrides;
+  for (const auto& [name, value] : arguments) {
+    const auto& keys = launchArgumentKeys();
+    const auto it = std::find_if(keys.begin(), keys.end(), [&](const auto& k) { return k.first == name; });
+    if (it == keys.end()) {
+      std::string known;
+      for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k.first;
+      throw ConfigError("config error: launch argument " + name + " is not one the nodes know (" + known + ")");
+    }
+    if (value.empty()) continue;  // left empty: the config's value stays
+    // One plain value: YAML flow collections, documents or several lines would be more than one value.
+    if (value.find_first_of("[]{}\n\r") != std::string::npos || value.find(": ") != std::string::npos ||
+        value.find(", ") != std::string::npos || value.find('"') != std::string::npos) {
+      throw ConfigError("config error: " + it->second + " = " + value + ": launch argument " + name +
+                        ":= must be one plain value [launch argument " + name + "]");
+    }
+    overrides.push_back(it->second + "=" + value);
+  }
+  return overrides;
+}
 
 Config loadNodeConfig(ros::NodeHandle& nh) {
   std::string file;
   if (!nh.getParam("/railvib/config_file", file)) {
     throw ConfigError("parameter /railvib/config_file is not set (the launch file sets it)");
   }
-  std::vector<std::string> overrides;
-  nh.getParam("/railvib/config_overrides", overrides);
-  std::vector<std::string> effective;
-  for (const auto& o : overrides) {
-    // Launch files pass "key=" for arguments left empty: those keep the config value.
-    if (!o.empty() && o.back() != '=') effective.push_back(o);
+  std::vector<std::pair<std::string, std::string>> arguments;
+  XmlRpc::XmlRpcValue args;
+  if (nh.getParam("/railvib/launch_arguments", args)) {
+    if (args.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+      throw ConfigError("parameter /railvib/launch_arguments must be a map of argument name -> value");
+    }
+    for (auto it = args.begin(); it != args.end(); ++it) {
+      XmlRpc::XmlRpcValue& v = it->second;
+      std::string value;
+      switch (v.getType()) {
+        case XmlRpc::XmlRpcValue::TypeString:
+          value = static_cast<std::string>(v);
+          break;
+        case XmlRpc::XmlRpcValue::TypeInt:
+          value = std::to_string(static_cast<int>(v));
+          break;
+        case XmlRpc::XmlRpcValue::TypeDouble: {
+          std::ostringstream s;
+          s.precision(17);
+          s << static_cast<double>(v);
+          value = s.str();
+          break;
+        }
+        default:
+          throw ConfigError("launch argument " + it->first + ": must be one plain value");
+      }
+      arguments.emplace_back(it->first, value);
+    }
   }
-  return Config::load(file, effective);
+  std::vector<std::string> overrides = launchArgumentOverrides(arguments);
+  // A list of "key.path=value" set directly (never built by substitution in our launch files).
+  std::vector<std::string> direct;
+  nh.getParam("/railvib/config_overrides", direct);
+  for (const auto& o : direct) {
+    if (!o.empty() && o.back() != '=') overrides.push_back(o);
+  }
+  Config config = Config::load(file, overrides);
+  scenario::validateScenario(config);
+  return config;
+}
+
+void reportStartFailure(const std::string& node, const std::string& message) {
+  ROS_FATAL("%s: %s", node.c_str(), message.c_str());
+  // After NodeStatus::fail the ERROR is out and ROS is shut down: a NodeHandle would restart it.
+  if (!ros::isInitialized() || !ros::ok() || !ros::master::check()) return;
+  // Latched, so a subscriber that connects in the next moment still gets it.
+  ros::NodeHandle nh;
+  ros::Publisher publisher = nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 1, true);
+  diagnostic_msgs::DiagnosticArray array;
+  diagnostic_msgs::DiagnosticStatus status;
+  status.name = "railvib/" + node;
+  status.hardware_id = node;
+  status.level = diagnostic_msgs::DiagnosticStatus::ERROR;
+  status.message = message;
+  array.status.push_back(status);
+  publisher.publish(array);
+  // A subscriber still connecting gets the latched ERROR once connected (up to 2 s).
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
+  while (publisher.getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.05).sleep();
+  ros::WallDuration(0.5).sleep();
 }
 
 }  // namespace railvib::ros_io

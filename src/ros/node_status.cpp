@@ -7,7 +7,8 @@ namespace railvib::ros_io {
 NodeStatus::NodeStatus(ros::NodeHandle& nh, std::string node_name, double total_sim_s)
     : name_(std::move(node_name)),
       progress_(name_, total_sim_s),
-      publisher_(nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 10)),
+      // Latched: the last status (an ERROR when the node stopped) reaches a late subscriber too.
+      publisher_(nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 10, true)),
       last_publish_(ros::WallTime::now()) {}
 
 void NodeStatus::update(double sim_time_s, bool force) {
@@ -25,9 +26,15 @@ void NodeStatus::finish(double sim_time_s) {
 void NodeStatus::error(const std::string& message) { publish(0.0, diagnostic_msgs::DiagnosticStatus::ERROR, message); }
 
 void NodeStatus::fail(const std::string& message) {
+  if (failed_) return;
   failed_ = true;
   ROS_FATAL("%s: %s", name_.c_str(), message.c_str());
   error(message);
+  // Let the ERROR leave before the connections close: a subscriber to /diagnostics that is still
+  // connecting to this node (a refusal at start-up) gets the latched ERROR once it is connected.
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
+  while (publisher_.getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.05).sleep();
+  ros::WallDuration(0.5).sleep();
   ros::shutdown();
 }
 

@@ -6,6 +6,7 @@
 #include "railvib/building/model.hpp"
 #include "railvib/building/params.hpp"
 #include "railvib/common/names.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/coupling/house_foundation.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/track/track_model.hpp"
@@ -23,6 +24,7 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
   if (include_footprint) bodies_ = coupling::attachedBodies(config.root(), params_);
   load_sample_rate_hz_ = track::loadTrackParams(config.root()).load_sample_rate_hz;
+  limits_ = loadStreamLimits(config.root());
   status_ = std::make_unique<NodeStatus>(nh, "soil", vehicle::loadPassageParams(config.root()).duration_s);
   velocity_publisher_ =
       BlockPublisher<railvib::SurfaceVelocities>(nh, names::kSurfaceVelocitiesTopic, required_subscribers);
@@ -52,9 +54,28 @@ soil::HouseReceivers SoilNode::houseReceivers(const ConfigNode& root, bool inclu
 void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
   if (model_) return;
   status_->guard([&] {
-    if (std::abs(layout->length_m - params_.track.length_m) > 1e-9 ||
-        std::abs(layout->width_m - params_.track.width_m) > 1e-9) {
-      throw std::runtime_error("the track's sleeper footprint differs from the soil's (same config expected)");
+    const std::string topic = layout_subscriber_.getTopic();
+    // !(|d| <= tol) refuses NaN too.
+    if (!(std::abs(layout->length_m - params_.track.length_m) <= 1e-9) ||
+        !(std::abs(layout->width_m - params_.track.width_m) <= 1e-9)) {
+      throw StreamContractError("stream " + topic + ": sleeper footprint length_m = " + formatValue(layout->length_m) +
+                                ", width_m = " + formatValue(layout->width_m) + " differs from track.sleeper (" +
+                                formatValue(params_.track.length_m) + " x " + formatValue(params_.track.width_m) +
+                                " m; the same config is expected)");
+    }
+    validateSleeperPositions(topic, layout->position_m, limits_.max_points);
+    const std::vector<double> expected = params_.track.sleeperPositions();
+    if (layout->position_m.size() != expected.size()) {
+      throw StreamContractError("stream " + topic + ": " + std::to_string(layout->position_m.size()) +
+                                " sleepers, the track config (track.sleeper, track.extent) has " +
+                                std::to_string(expected.size()));
+    }
+    for (size_t i = 0; i < expected.size(); ++i) {
+      if (!(std::abs(layout->position_m[i] - expected[i]) <= 1e-6)) {
+        throw StreamContractError("stream " + topic + ": position_m[" + std::to_string(i) +
+                                  "] = " + formatValue(layout->position_m[i]) + " m, the track config puts it at " +
+                                  formatValue(expected[i]) + " m");
+      }
     }
     model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m, load_sample_rate_hz_, bodies_);
     ROS_INFO_STREAM("soil: " << model_->summary().dump());
@@ -78,21 +99,31 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
 
 void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
   gate_.run([this, msg] {
-    if (!ended_) status_->guard([&] { consume(*msg); });
+    status_->guard([&] {
+      if (ended_) {
+        throw StreamContractError("stream " + loads_subscriber_.getTopic() + ": a block (first_sample_index " +
+                                  std::to_string(msg->first_sample_index) + ") after the end_of_stream block");
+      }
+      consume(*msg);
+    });
   });
 }
 
 void SoilNode::consume(const railvib::SoilLoads& msg) {
   if (!model_) throw std::runtime_error("soil loads arrived before the sleeper layout");
-  if (msg.sleeper_count != model_->sleeperCount() ||
-      msg.force_n.size() != static_cast<size_t>(msg.sample_count) * msg.sleeper_count) {
-    throw std::runtime_error("malformed SoilLoads block (sleeper count differs from the layout)");
-  }
-  if (std::abs(msg.sample_period_s * load_sample_rate_hz_ - 1.0) > 1e-9) {
-    throw std::runtime_error("soil loads come every " + std::to_string(msg.sample_period_s) +
-                             " s, not at track.output.load_sample_rate_hz = " + std::to_string(load_sample_rate_hz_) +
-                             " Hz");
-  }
+  BlockContract contract;
+  contract.stream = loads_subscriber_.getTopic();
+  contract.sample_period_s = 1.0 / load_sample_rate_hz_;
+  contract.period_source = "track.output.load_sample_rate_hz = " + formatValue(load_sample_rate_hz_) + " Hz";
+  contract.count_field = "sleeper_count";
+  contract.point_label = "sleeper";
+  contract.point_count = static_cast<uint32_t>(model_->sleeperCount());
+  contract.point_source = "the sleeper_layout";
+  contract.max_block_samples = limits_.max_block_samples;
+  validateBlock(
+      contract,
+      {msg.first_sample_index, msg.end_of_stream != 0, msg.sample_period_s, msg.sample_count, msg.sleeper_count},
+      {{"force_n", &msg.force_n, 1, limits_.soil_load_n, "limits.soil_load_n", "N"}});
   model_->pushLoads(msg.first_sample_index, msg.force_n.data(), msg.sample_count);
   status_->countSamples("soil_loads in", msg.sample_count);
   if (msg.end_of_stream) {

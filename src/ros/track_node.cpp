@@ -4,6 +4,7 @@
 
 #include "railvib/SleeperLayout.h"
 #include "railvib/common/names.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 
@@ -19,6 +20,8 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   stream_ = std::make_unique<track::SoilLoadStream>(params, run.time_step_s, rate_hz,
                                                     run.convected_track_start ? run.speed_m_s : 0.0);
   status_ = std::make_unique<NodeStatus>(nh, "track", run.duration_s);
+  limits_ = loadStreamLimits(config.root());
+  wheel_count_ = static_cast<uint32_t>(vehicle::loadVehicleParams(config.root()).axle_offsets_m.size());
 
   double block_duration_s = 0.05;
   int required_subscribers = 1;
@@ -42,21 +45,34 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
 }
 
 void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {
-  if (!ended_) status_->guard([&] { consume(*msg); });
+  status_->guard([&] {
+    if (ended_) {
+      throw StreamContractError("stream " + contact_subscriber_.getTopic() + ": a block (first_sample_index " +
+                                std::to_string(msg->first_sample_index) + ") after the end_of_stream block");
+    }
+    consume(*msg);
+  });
 }
 
 void TrackNode::consume(const railvib::ContactForces& block) {
   const railvib::ContactForces* msg = &block;
+  // Period, wheel count, array sizes and values against the config, before any of them is used.
+  BlockContract contract;
+  contract.stream = contact_subscriber_.getTopic();
+  contract.sample_period_s = stream_->timeStep();
+  contract.period_source = "simulation.time_step_s = " + formatValue(stream_->timeStep()) + " s";
+  contract.count_field = "wheel_count";
+  contract.point_label = "wheel";
+  contract.point_count = wheel_count_;
+  contract.point_source = "the vehicle (vehicle.axle_offsets_m)";
+  contract.max_block_samples = limits_.max_block_samples;
+  validateBlock(
+      contract,
+      {msg->first_sample_index, msg->end_of_stream != 0, msg->sample_period_s, msg->sample_count, msg->wheel_count},
+      {{"position_m", &msg->position_m, 1, limits_.wheel_position_m, "limits.wheel_position_m", "m"},
+       {"force_n", &msg->force_n, 1, limits_.contact_force_n, "limits.contact_force_n", "N"},
+       {"unevenness_m", &msg->unevenness_m, 1, limits_.unevenness_m, "limits.unevenness_m", "m"}});
   tracker_.accept(msg->first_sample_index, msg->sample_count);
-  if (std::abs(msg->sample_period_s - stream_->timeStep()) > 1e-12 * stream_->timeStep()) {
-    throw std::runtime_error("contact forces come every " + std::to_string(msg->sample_period_s) +
-                             " s but the track steps every " + std::to_string(stream_->timeStep()) +
-                             " s (simulation.time_step_s)");
-  }
-  const size_t expected = static_cast<size_t>(msg->sample_count) * msg->wheel_count;
-  if (msg->position_m.size() != expected || msg->force_n.size() != expected) {
-    throw std::runtime_error("malformed ContactForces block: array sizes do not match sample_count x wheel_count");
-  }
   stream_->push(msg->sample_count, msg->wheel_count, msg->position_m.data(), msg->force_n.data(), pending_);
   if (msg->end_of_stream) {
     stream_->flush(pending_);

@@ -11,7 +11,9 @@
 #include "railvib/SurfaceVelocities.h"
 #include "railvib/VibrationMetrics.h"
 #include "railvib/common/names.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/soil/soil_params.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
@@ -45,6 +47,8 @@ VirtualSensorNode::InputBlock asInput(const Msg& msg, uint32_t point_count) {
 VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
   config_ = signal::loadVirtualSensorConfig(config.root());
+  limits_ = loadStreamLimits(config.root());
+  input_rate_hz_ = soil::loadReceiverRateHz(config.root());
   status_ = std::make_unique<NodeStatus>(nh, "virtual_sensor", vehicle::loadPassageParams(config.root()).duration_s);
   bool use_building = true;
   int required_subscribers = 1;
@@ -74,15 +78,17 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   auto has_source = [&](const char* name) {
     return std::any_of(sensors_.begin(), sensors_.end(), [&](const Sensor& s) { return s.setup.source == name; });
   };
-  auto add_source = [&](const std::string& name) -> Source& {
+  auto add_source = [&](const std::string& name, const char* count_field, const char* layout) -> Source& {
     sources_.push_back(std::make_unique<Source>());
     Source& src = *sources_.back();
     src.name = name;
     src.tracker = std::make_unique<SampleIndexTracker>(name);
+    src.count_field = count_field;
+    src.layout_name = layout;
     return src;
   };
   if (has_source("soil")) {
-    Source& src = add_source("soil");
+    Source& src = add_source("soil", "receiver_count", "the surface_points layout");
     Source* raw = &src;
     src.layout_sub = nh.subscribe<railvib::PointLayout>(
         names::kSurfacePointsTopic, 1,
@@ -96,7 +102,7 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
             }));
   }
   if (has_source("building")) {
-    Source& src = add_source("building");
+    Source& src = add_source("building", "point_count", "the building_points layout");
     Source* raw = &src;
     src.layout_sub = nh.subscribe<railvib::PointLayout>(
         names::kBuildingPointsTopic, 1,
@@ -116,6 +122,9 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
 void VirtualSensorNode::onLayout(Source& source, const railvib::PointLayout& layout) {
   if (source.gate.isOpen()) return;
   status_->guard([&] {
+    std::vector<double> xyz;
+    for (const auto& p : layout.positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+    validatePointLayout(source.layout_sub.getTopic(), layout.names, layout.positions.size(), xyz, limits_.max_points);
     source.point_names = layout.names;
     for (auto& s : sensors_) {
       if (s.setup.source != source.name) continue;
@@ -150,10 +159,22 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
   if (finished_) return;
   status_->guard([&] {
     if (!source.gate.isOpen()) throw std::runtime_error(source.name + " data arrived before its point layout");
+    // Period, counts and values against the config and the layout, before any index is used.
+    BlockContract contract;
+    contract.stream = source.data_sub.getTopic();
+    contract.sample_period_s = 1.0 / input_rate_hz_;
+    contract.period_source = "soil.output.receiver_rate_hz = " + formatValue(input_rate_hz_) + " Hz";
+    contract.count_field = source.count_field;
+    contract.point_label = "point";
+    contract.point_count = static_cast<uint32_t>(source.point_names.size());
+    contract.point_source = source.layout_name;
+    contract.max_block_samples = limits_.max_block_samples;
+    validateBlock(
+        contract,
+        {block.first_sample_index, block.end_of_stream, block.sample_period_s, block.sample_count, block.point_count},
+        {{"velocity_m_s", block.velocity_m_s, 3, limits_.velocity_m_s, "limits.velocity_m_s", "m/s"}});
     source.tracker->accept(block.first_sample_index, block.sample_count);
-    const size_t expected = static_cast<size_t>(block.sample_count) * block.point_count * 3;
-    if (block.velocity_m_s->size() != expected) throw std::runtime_error(source.name + ": malformed block");
-    const double input_rate = 1.0 / block.sample_period_s;
+    const double input_rate = input_rate_hz_;
     std::vector<double> frames(3 * block.sample_count);
     std::vector<signal::SensorSample> emitted;
     for (auto& s : sensors_) {

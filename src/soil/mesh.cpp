@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace railvib::soil {
@@ -48,6 +49,25 @@ StructuredMesh buildMesh(const std::vector<Layer>& profile, const MeshSpec& spec
   }
   if (spec.max_plane_size_m > 0.0) h_plane = std::min(h_plane, spec.max_plane_size_m);
   const double lx = spec.x_max_m - spec.x_min_m, ly = spec.y_max_m - spec.y_min_m;
+  // Count the elements in floating point before any index or array is sized: a box or a
+  // resolution far beyond any machine is refused here, not by running out of memory.
+  {
+    double levels = 0.0, top_m = 0.0;
+    for (size_t l = 0; l < profile.size() && top_m < spec.depth_m - 1e-12; ++l) {
+      const bool half_space = (l + 1 == profile.size());
+      const double bottom = half_space ? spec.depth_m : std::min(spec.depth_m, top_m + profile[l].thickness_m);
+      levels += std::max(1.0, std::ceil((bottom - top_m) / (profile[l].material.vs() / ratio)));
+      top_m = bottom;
+    }
+    const double elements = std::ceil(lx / h_plane) * std::ceil(ly / h_plane) * levels;
+    if (!(elements <= kMaxMeshElements)) {
+      std::ostringstream why;
+      why << "soil mesh: " << elements << " elements, more than the " << kMaxMeshElements
+          << " any machine could hold, whatever max_memory_gb allows: lower f_max_hz / elements_per_wavelength or "
+             "shrink the box";
+      throw std::invalid_argument(why.str());
+    }
+  }
   mesh.nx = static_cast<size_t>(std::ceil(lx / h_plane - 1e-9));
   mesh.ny = static_cast<size_t>(std::ceil(ly / h_plane - 1e-9));
   mesh.hx = lx / static_cast<double>(mesh.nx);

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "railvib/common/machine.hpp"
 #include "railvib/common/names.hpp"
 
 namespace railvib::soil {
@@ -82,10 +83,14 @@ void readBoundary(const ConfigNode& b, SoilParams& p) {
   }
 }
 
+double receiverRate(const ConfigNode& output) {
+  return output.number("receiver_rate_hz", Range::open(0.0, 1e6), 1000.0);
+}
+
 // soil.output rates, soil.loads.
 void readOutputAndLoads(const ConfigNode& soil, SoilParams& p) {
   const ConfigNode out = soil.section("output");
-  p.receiver_rate_hz = out.number("receiver_rate_hz", Range::open(0.0, 1e6), 1000.0);
+  p.receiver_rate_hz = receiverRate(out);
   p.snapshot_rate_hz = out.number("snapshot_rate_hz", Range::open(0.0, 1e6), 100.0);
   const double ratio = p.receiver_rate_hz / p.snapshot_rate_hz;
   if (std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1.0) {
@@ -115,11 +120,12 @@ void collectReceivers(const ConfigNode& root, const HouseReceivers& house, SoilP
   const ConfigNode out = root.section("soil").section("output");
   if (out.has("receiver_line")) {
     const ConfigNode line = out.section("receiver_line");
-    const double x = line.number("x_m", Range::any());
-    const double y0 = line.number("y_min_m", Range::any());
-    const double y1 = line.number("y_max_m", Range::any());
+    const double x = line.number("x_m", Range::open(-1e5, 1e5));
+    const double y0 = line.number("y_min_m", Range::open(-1e5, 1e5));
+    const double y1 = line.number("y_max_m", Range::open(-1e5, 1e5));
     const double step = line.number("step_m", Range::open(0.0, 1e4));
     if (y1 < y0) line.fail("y_max_m", "must be >= y_min_m");
+    if ((y1 - y0) / step > 10000.0) line.fail("step_m", "more than 10000 receivers on the line");
     const long n = static_cast<long>(std::floor((y1 - y0) / step + 1e-9));
     for (long i = 0; i <= n; ++i) {
       const double y = y0 + step * static_cast<double>(i);
@@ -181,9 +187,20 @@ void checkMemory(const ConfigNode& soil, const SoilParams& p) {
         << " GB: lower f_max_hz / elements_per_wavelength or shrink the box";
     mesh.fail("max_memory_gb", why.str());
   }
+  // max_memory_gb is the user's cap; the machine's memory is the hard one.
+  const double machine = machineMemoryBytes();
+  if (machine > 0.0 && bytes > machine) {
+    std::ostringstream why;
+    why << "the mesh (" << m.elementCount() << " elements) needs " << bytes / 1e9 << " GB, more than the "
+        << machine / 1e9 << " GB of memory of this machine (MemTotal or the cgroup limit), whatever max_memory_gb "
+        << "allows: lower f_max_hz / elements_per_wavelength or shrink the box";
+    mesh.fail("max_memory_gb", why.str());
+  }
 }
 
 }  // namespace
+
+double loadReceiverRateHz(const ConfigNode& root) { return receiverRate(root.section("soil").section("output")); }
 
 SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
   SoilParams p;

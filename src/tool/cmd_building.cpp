@@ -10,6 +10,7 @@
 #include "railvib/building/modal.hpp"
 #include "railvib/building/model.hpp"
 #include "railvib/building/response.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/io/csv.hpp"
 #include "tool_common.hpp"
 
@@ -219,16 +220,23 @@ int runResponse(const std::vector<std::string>& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const BuildingModel model(params);
   const io::CsvTable in = io::readCsv(parser.get("footprint"));
-  if (in.rows.size() < 2) throw std::runtime_error("footprint CSV: need at least two samples");
+  if (in.rows.size() < 2) throw std::runtime_error(in.path + ": need at least two samples");
   const size_t tcol = in.column("time_s");
-  const double dt = in.rows[1][tcol] - in.rows[0][tcol];
-  for (size_t i = 1; i < in.rows.size(); ++i)
-    if (std::abs(in.rows[i][tcol] - in.rows[i - 1][tcol] - dt) > 1e-6 * dt)
-      throw std::runtime_error("footprint CSV: time_s must be uniformly sampled (row " + std::to_string(i + 2) + ")");
+  const double dt = io::uniformStep(in, tcol);
   BuildingResponseSolver solver(model, dt);
   std::vector<size_t> cols;
   for (const FootprintPoint& f : solver.footprint())
     for (const char* c : {"_vx", "_vy", "_vz"}) cols.push_back(in.column(f.name + c));
+  const double bound = loadStreamLimits(config.root()).velocity_m_s;
+  for (size_t i = 0; i < in.rows.size(); ++i) {
+    for (size_t c : cols) {
+      if (!(std::abs(in.rows[i][c]) <= bound)) {
+        throw std::runtime_error(in.where(i) + ": column '" + in.columns[c] + "' = " + formatValue(in.rows[i][c]) +
+                                 " m/s: beyond the " + formatValue(bound) +
+                                 " m/s a velocity may be (limits.velocity_m_s)");
+      }
+    }
+  }
   std::vector<std::string> out_cols{"time_s"};
   for (const auto& n : solver.outputColumnNames()) out_cols.push_back(n);
   io::CsvWriter csv(parser.get("out"), out_cols);

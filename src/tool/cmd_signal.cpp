@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/signal/decimator.hpp"
 #include "railvib/signal/din_check.hpp"
@@ -60,27 +61,24 @@ int metrics(const std::vector<std::string>& args) {
     fs = p.getDouble("rate");
     if (!(fs > 0.0)) throw ArgError("metrics: --rate must be positive");
   } else {
-    const size_t tc = table.column(p.get("time-column"));
-    const double t_first = table.rows.front()[tc];
-    const double t_last = table.rows.back()[tc];
-    const double dt = (t_last - t_first) / static_cast<double>(table.rows.size() - 1);
-    if (!(dt > 0.0)) throw std::runtime_error("metrics: time column is not increasing");
-    for (size_t i = 1; i < table.rows.size(); ++i) {
-      const double d = table.rows[i][tc] - table.rows[i - 1][tc];
-      if (std::abs(d - dt) > 0.01 * dt) {
-        throw std::runtime_error("metrics: non-uniform sampling at row " + std::to_string(i + 1) +
-                                 " (dt = " + std::to_string(d) + " s vs mean " + std::to_string(dt) +
-                                 " s); resample first or pass --rate");
-      }
-    }
+    const double dt = io::uniformStep(table, table.column(p.get("time-column")));
     fs = 1.0 / dt;
   }
 
   std::vector<std::vector<double>> comps;
+  const double bound = StreamLimits{}.velocity_m_s;
   for (const auto& name : names) {
     const size_t c = table.column(name);
     std::vector<double> v(table.rows.size());
-    for (size_t i = 0; i < v.size(); ++i) v[i] = table.rows[i][c] * to_m_s;
+    for (size_t i = 0; i < v.size(); ++i) {
+      v[i] = table.rows[i][c] * to_m_s;
+      // A velocity beyond any ground or building vibration is a unit or file error, not a record.
+      if (!(std::abs(v[i]) <= bound)) {
+        throw std::runtime_error(table.where(i) + ": column '" + name + "' = " + formatValue(table.rows[i][c]) + " " +
+                                 unit + ": beyond the " + formatValue(bound) +
+                                 " m/s a particle velocity may be (limits.velocity_m_s)");
+      }
+    }
     comps.push_back(std::move(v));
   }
   const auto range = splitList(p.get("bands"));
@@ -125,8 +123,10 @@ int metrics(const std::vector<std::string>& args) {
                         {"ratio_to_limit", pc.ratio}});
     json levels = json::array();
     for (size_t b = 0; b < s.bands.size(); ++b) {
-      levels.push_back(
-          {{"nominal_hz", s.bands[b].nominal_hz}, {"level_db", dbValue(s.third_octave_equivalent_db[c][b])}});
+      // running_level_db: the running level at the end of the record, what a live sensor reports.
+      levels.push_back({{"nominal_hz", s.bands[b].nominal_hz},
+                        {"level_db", dbValue(s.third_octave_equivalent_db[c][b])},
+                        {"running_level_db", dbValue(s.third_octave_running_db[c][b])}});
     }
     oct_comp.push_back({{"column", names[c]}, {"levels", levels}});
   }

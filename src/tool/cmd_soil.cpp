@@ -13,6 +13,7 @@
 
 #include "command_registry.hpp"
 #include "railvib/building/model.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/coupling/house_foundation.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/soil/lamb.hpp"
@@ -60,7 +61,7 @@ struct BenchArgs {
   /// The product of the --pml-* lists (none when --pml-thickness is empty).
   std::vector<ReflectionCase> pmlCases() const {
     std::vector<ReflectionCase> cases;
-    if (p.get("pml-thickness").empty()) return cases;
+    if (!p.has("pml-thickness")) return cases;  // has(): given, or a non-empty default (get() would refuse)
     for (double thickness : list("pml-thickness")) {
       for (double r : list("pml-reflection")) {
         for (double n : list("pml-exponent")) {
@@ -496,11 +497,23 @@ int soilRun(const std::vector<std::string>& args) {
       p.getDouble("duration") <= 0.0 ? vehicle::loadPassageParams(root).duration_s : p.getDouble("duration");
 
   const io::CsvTable loads = io::readCsv(p.get("loads"));
-  if (loads.columns.empty() || loads.columns[0] != "t_s" || loads.rows.size() < 2) {
+  if (loads.columns.size() < 2 || loads.columns[0] != "t_s" || loads.rows.size() < 2) {
     throw std::runtime_error(p.get("loads") + ": expected columns t_s, sleeper_0, ... and at least 2 rows");
   }
-  const double rate = 1.0 / (loads.rows[1][0] - loads.rows[0][0]);
-  if (std::abs(loads.rows[0][0]) > 1e-9) throw std::runtime_error(p.get("loads") + ": first sample must be at t = 0");
+  // Every row: uniform time steps from t = 0, every force finite and within limits.soil_load_n.
+  const double rate = 1.0 / io::uniformStep(loads, 0);
+  if (std::abs(loads.rows[0][0]) > 1e-9)
+    throw std::runtime_error(loads.where(0) + ": the first sample must be at t = 0");
+  const StreamLimits limits = loadStreamLimits(root);
+  for (size_t i = 0; i < loads.rows.size(); ++i) {
+    const auto& row = loads.rows[i];
+    const size_t bad = firstValueOutside(row.data() + 1, row.size() - 1, limits.soil_load_n);
+    if (bad < row.size() - 1) {
+      throw std::runtime_error(loads.where(i) + ": column '" + loads.columns[bad + 1] +
+                               "' = " + formatValue(row[bad + 1]) + " N: beyond the " +
+                               formatValue(limits.soil_load_n) + " N a sleeper load may be (limits.soil_load_n)");
+    }
+  }
   const size_t ns = loads.columns.size() - 1;
   std::vector<double> sleeper_x;
   std::string sleeper_file = p.get("sleepers") == "auto" ? "" : p.get("sleepers");
@@ -510,7 +523,15 @@ int soilRun(const std::vector<std::string>& args) {
   }
   if (!sleeper_file.empty()) {
     const io::CsvTable sl = io::readCsv(sleeper_file);
-    for (const auto& r : sl.rows) sleeper_x.push_back(r[sl.column("x_m")]);
+    const size_t cx = sl.column("x_m");
+    for (size_t i = 0; i < sl.rows.size(); ++i) {
+      const double x = sl.rows[i][cx];
+      if (!sleeper_x.empty() && !(x > sleeper_x.back())) {
+        throw std::runtime_error(sl.where(i) + ": x_m = " + formatValue(x) +
+                                 ": sleeper positions must increase (previous " + formatValue(sleeper_x.back()) + ")");
+      }
+      sleeper_x.push_back(x);
+    }
   } else {
     sleeper_x = params.track.sleeperPositions();
   }

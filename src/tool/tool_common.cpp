@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 
+#include "railvib/scenario/scenario.hpp"
+
 #ifndef RAILVIB_SOURCE_DIR
 #define RAILVIB_SOURCE_DIR "."
 #endif
@@ -21,7 +23,10 @@ void addConfigOptions(ArgParser& parser) {
 Config loadConfig(const ArgParser& parser, const std::vector<std::string>& extra_overrides) {
   std::vector<std::string> overrides = parser.getAll("set");
   overrides.insert(overrides.end(), extra_overrides.begin(), extra_overrides.end());
-  return Config::load(parser.get("config"), overrides);
+  Config config = Config::load(parser.get("config"), overrides);
+  // The whole scenario, as config-check sees it: a typo in --set or in any file is refused here.
+  scenario::validateScenario(config);
+  return config;
 }
 
 }  // namespace railvib::tool

@@ -17,7 +17,8 @@ std::string defaultConfigPath();
 void addConfigOptions(ArgParser& parser);
 
 /// Load the configuration named by --config with the --set overrides, then
-/// `extra_overrides` (a command's own options, e.g. --foundation) on top.
+/// `extra_overrides` (a command's own options, e.g. --foundation) on top, and validate the whole
+/// scenario (scenario::validateScenario: every section, cross-checks, unknown keys).
 Config loadConfig(const ArgParser& parser, const std::vector<std::string>& extra_overrides = {});
 
 /// Print a JSON summary on stdout (indented).

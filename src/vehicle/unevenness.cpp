@@ -5,6 +5,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/io/csv.hpp"
 
 namespace railvib::vehicle {
@@ -79,12 +80,23 @@ Unevenness::Unevenness(const UnevennessParams& params, double x_min, double x_ma
   if (params_.measured.enabled) {
     const io::CsvTable table = io::readCsv(params_.measured.file);
     const size_t cx = table.column("x_m"), cz = table.column("z_m");
-    for (const auto& row : table.rows) {
+    for (size_t i = 0; i < table.rows.size(); ++i) {
+      const auto& row = table.rows[i];
+      const std::string line = params_.measured.file + ":" + std::to_string(table.line_of_row[i]);
       if (!measured_x_.empty() && !(row[cx] > measured_x_.back())) {
-        throw std::runtime_error("measured profile " + params_.measured.file + ": x_m must be strictly increasing");
+        throw std::runtime_error("measured profile " + line + ": x_m = " + formatValue(row[cx]) +
+                                 ": must be greater than the previous row's " + formatValue(measured_x_.back()));
+      }
+      const double z = params_.measured.scale * row[cz];
+      if (!(std::abs(z) <= params_.measured.max_abs_m)) {
+        throw std::runtime_error("measured profile " + line + ": z_m = " + formatValue(row[cz]) + " (x scale " +
+                                 formatValue(params_.measured.scale) + "): beyond the " +
+                                 formatValue(params_.measured.max_abs_m) +
+                                 " m a rail unevenness may be "
+                                 "(limits.unevenness_m)");
       }
       measured_x_.push_back(row[cx]);
-      measured_z_.push_back(params_.measured.scale * row[cz]);
+      measured_z_.push_back(z);
     }
     if (measured_x_.size() < 2) {
       throw std::runtime_error("measured profile " + params_.measured.file + ": needs at least two rows");

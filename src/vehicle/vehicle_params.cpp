@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
 #include "railvib/common/site.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/vehicle/vehicle_model.hpp"
 
 namespace railvib::vehicle {
@@ -284,7 +286,7 @@ UnevennessParams loadUnevennessParams(const ConfigNode& root) {
   const ConfigNode un = root.section("unevenness");
   const ConfigNode d = un.section("defect");
   u.defect.enabled = d.flag("enabled");
-  u.defect.position_m = d.number("position_m", Range::any());
+  u.defect.position_m = d.number("position_m", Range::open(-1.0e5, 1.0e5));
   u.defect.height_m = d.number("height_m", Range::closed(0.0, 0.05));
   u.defect.length_m = d.number("length_m", Range::closed(0.0, 1.0));
   if (u.defect.enabled && root.has("track")) {
@@ -318,8 +320,17 @@ UnevennessParams loadUnevennessParams(const ConfigNode& root) {
   if (un.has("measured_profile")) {
     const ConfigNode m = un.section("measured_profile");
     u.measured.enabled = m.flag("enabled");
-    if (u.measured.enabled) u.measured.file = m.filePath("file");
-    u.measured.scale = m.number("scale", Range::any(), 1.0);
+    if (u.measured.enabled) {
+      u.measured.file = m.filePath("file");
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(u.measured.file, ec)) {
+        m.fail("file", "no such file: " + u.measured.file + " (a path is relative to the file that sets it)");
+      }
+    } else if (m.has("file")) {
+      m.text("file");  // kept for when the profile is enabled again: still a file name
+    }
+    u.measured.scale = m.number("scale", Range::closed(-1.0e3, 1.0e3), 1.0);
+    u.measured.max_abs_m = loadStreamLimits(root).unevenness_m;
   }
   return u;
 }
@@ -335,7 +346,7 @@ PassageParams loadPassageParams(const ConfigNode& root) {
   // stiffest vehicle mode (tread on the Hertz spring, ~600 Hz) needs >= 20
   // steps per period and the defect (~7 ms at 30 km/h) >= 100 steps.
   p.time_step_s = s.number("time_step_s", Range::closed(1.0e-7, 5.0e-5));
-  p.front_axle_start_m = s.number("front_axle_start_m", Range::any());
+  p.front_axle_start_m = s.number("front_axle_start_m", Range::open(-1.0e5, 1.0e5));
   p.contact_tolerance = s.number("contact_tolerance", Range::closed(1e-14, 1e-4), p.contact_tolerance);
   p.convected_track_start = s.flag("convected_track_start", false);
   return p;

@@ -10,13 +10,28 @@ With ~tf_pose_period_s, also asserts that /tf holds every tram pose from t = 0
 to the end (one message per period, bag time = the poses' stamp) and that
 /tf_static holds the ~static_frames.
 
-With ~check_metrics, also asserts that the live metrics of every virtual
-sensor (last message of each sensor on /sensor_metrics) equal KB_Fmax and PPV
-recomputed offline by `railvib_tool metrics` from the recorded sensor_samples.
+Every stream's values are finite and not all zero; with
+~quasi_static_window_s [t0, t1], the ballast-to-soil loads summed over the
+sleepers equal twice the contact forces summed over the wheels (the track
+model is one rail, the soil gets both) within ~quasi_static_tolerance, at
+every soil-load sample of the window.
+
+With ~check_metrics, the virtual sensors in the bag are exactly those the
+scenario configures (`railvib_tool config-check` on ~config; house sensors
+only with ~use_building), and every field of each sensor's last live
+VibrationMetrics equals what `railvib_tool metrics` recomputes offline from the
+recorded sensor_samples (KB_F, KB_Fmax, PPV vector and vertical, governing
+component, its peak, frequency and limit, one-third-octave bands and levels,
+the DIN 4150-2, DIN 4150-3 and overall verdicts).
+
+With ~check_report, `scripts/report.py` on the bag exits 0 and writes a
+report.md with a row per configured sensor and its figures.
 """
 import csv
 import json
+import math
 import os
+import pathlib
 import shutil
 import subprocess
 import sys
@@ -75,11 +90,66 @@ class StreamBagTest(unittest.TestCase):
                 self.assertTrue(all(not m.end_of_stream for m, _ in blocks[:-1]), topic + ": early end_of_stream")
                 expected_samples = int(round(self.duration_s / blocks[0][0].sample_period_s)) + 1
                 self.assertEqual(expected_index, expected_samples, topic + ": sample count")
+                self.check_values(topic, [m for m, _ in blocks])
 
+        if rospy.has_param("~quasi_static_window_s"):
+            self.check_loads_balance_contact_forces()
         if self.check_metrics:
             self.check_live_metrics_against_offline()
         if rospy.has_param("~tf_pose_period_s"):
             self.check_tf_recorded(float(rospy.get_param("~tf_pose_period_s")), rospy.get_param("~static_frames"))
+        if rospy.get_param("~check_report", False):
+            self.check_report_of_the_bag()
+
+    ARRAYS = {"/contact_forces": ["position_m", "force_n", "unevenness_m"], "/soil_loads": ["force_n"],
+              "/surface_velocities": ["velocity_m_s"], "/building_response": ["velocity_m_s"],
+              "/sensor_samples": ["velocity_m_s", "acceleration_m_s2"]}
+    # Arrays that carry the signal: all zero means the chain passed nothing on.
+    SIGNALS = {"/contact_forces": "force_n", "/soil_loads": "force_n", "/surface_velocities": "velocity_m_s",
+               "/building_response": "velocity_m_s", "/sensor_samples": "velocity_m_s"}
+
+    def check_values(self, topic, blocks):
+        """Every value finite, the signal array not all zero."""
+        for field in self.ARRAYS.get(topic, []):
+            peak = 0.0
+            for m in blocks:
+                values = getattr(m, field)
+                bad = [v for v in values if not math.isfinite(v)]
+                self.assertEqual(bad, [], f"{topic}.{field}: non-finite values in the block at {m.first_sample_index}")
+                if values:
+                    peak = max(peak, max(abs(v) for v in values))
+            if field == self.SIGNALS.get(topic):
+                self.assertGreater(peak, 0.0, f"{topic}.{field}: all zero")
+
+    def check_loads_balance_contact_forces(self):
+        """Quasi-static: the sleepers carry the wheels (twice: the soil gets both rails)."""
+        t0, t1 = (float(x) for x in rospy.get_param("~quasi_static_window_s"))
+        tolerance = float(rospy.get_param("~quasi_static_tolerance", 0.01))
+        with rosbag.Bag(self.bag_path) as bag:
+            cf = sorted((m for _, m, _ in bag.read_messages(topics=["/contact_forces"])),
+                        key=lambda m: m.first_sample_index)
+            sl = sorted((m for _, m, _ in bag.read_messages(topics=["/soil_loads"])),
+                        key=lambda m: m.first_sample_index)
+        dt, nw = cf[0].sample_period_s, cf[0].wheel_count
+        wheels = []  # total contact force per vehicle/track step
+        for m in cf:
+            for k in range(m.sample_count):
+                wheels.append(sum(m.force_n[k * nw:(k + 1) * nw]))
+        load_dt, ns = sl[0].sample_period_s, sl[0].sleeper_count
+        checked, worst = 0, 0.0
+        for m in sl:
+            for k in range(m.sample_count):
+                t = (m.first_sample_index + k) * load_dt
+                if not t0 <= t <= t1:
+                    continue
+                total = sum(m.force_n[k * ns:(k + 1) * ns])
+                step = int(round(t / dt))
+                expected = 2.0 * wheels[step]
+                worst = max(worst, abs(total / expected - 1.0))
+                checked += 1
+        self.assertGreater(checked, 10, "no soil-load sample in the quasi-static window")
+        rospy.loginfo("soil loads / (2 x contact forces) - 1: worst %.2e over %d samples", worst, checked)
+        self.assertLess(worst, tolerance, "soil loads do not carry twice the contact forces")
 
     def check_tf_recorded(self, period_s, static_frames):
         with rosbag.Bag(self.bag_path) as bag:
@@ -101,7 +171,20 @@ class StreamBagTest(unittest.TestCase):
             for frame in static_frames:
                 self.assertIn(frame, recorded_static, "/tf_static")
 
+    def configured_sensors(self):
+        """(name, source) of the configured virtual sensors, house ones only with ~use_building."""
+        tool = find_railvib_tool()
+        self.assertIsNotNone(tool, "railvib_tool not found")
+        out = subprocess.run([tool, "config-check", "--config", rospy.get_param("~config")], capture_output=True,
+                             text=True, start_new_session=True)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        use_building = rospy.get_param("~use_building", True)
+        return [(s["name"], s["source"]) for s in json.loads(out.stdout)["virtual_sensors"]
+                if use_building or s["source"] != "building"]
+
     def check_live_metrics_against_offline(self):
+        configured = self.configured_sensors()
+        self.assertGreater(len(configured), 0, "the scenario configures no sensor")
         with rosbag.Bag(self.bag_path) as bag:
             blocks = sorted((m for _, m, _ in bag.read_messages(topics=["/sensor_samples"])),
                             key=lambda m: m.first_sample_index)
@@ -111,11 +194,11 @@ class StreamBagTest(unittest.TestCase):
             live = {}
             for _, m, _ in bag.read_messages(topics=["/sensor_metrics"]):
                 live[m.sensor_name] = m  # the last one is the whole record
+        self.assertEqual(names, [n for n, _ in configured], "the sensors in the bag are not the configured ones")
+        self.assertEqual(sorted(live), sorted(names), "live metrics per sensor")
         tool = find_railvib_tool()
-        self.assertIsNotNone(tool, "railvib_tool not found")
         workdir = tempfile.mkdtemp(prefix="railvib_metrics_")
-        for i, name in enumerate(names):
-            self.assertIn(name, live, name + ": no live metrics recorded")
+        for i, (name, source) in enumerate(configured):
             path = os.path.join(workdir, name + ".csv")
             with open(path, "w", newline="") as f:
                 w = csv.writer(f, lineterminator="\n")
@@ -126,22 +209,61 @@ class StreamBagTest(unittest.TestCase):
                         base = (s * len(names) + i) * 3
                         w.writerow([repr(k * period)] + [repr(x) for x in b.velocity_m_s[base:base + 3]])
                         k += 1
+            kbf_csv = os.path.join(workdir, name + "_kbf.csv")
             # Own session: roslaunch's SIGINT to the launch when the recorder ends must not reach it.
-            out = subprocess.run([tool, "metrics", "--csv", path, "--column", "vx,vy,vz"], capture_output=True,
-                                 text=True, start_new_session=True)
+            out = subprocess.run([tool, "metrics", "--csv", path, "--column", "vx,vy,vz", "--out", kbf_csv],
+                                 capture_output=True, text=True, start_new_session=True)
             self.assertEqual(out.returncode, 0, out.stderr)
-            offline = json.loads(out.stdout)
-            kb = offline["din4150_2"]["kb_fmax"]
-            ppv = offline["din4150_3"]["vector_peak_mm_s"] * 1e-3
-            # Same core code on the same samples: equal to rounding of the CSV round trip.
-            self.assertAlmostEqual(live[name].kb_f_max, kb, delta=1e-9 + 1e-6 * abs(kb), msg=name + " KB_Fmax")
-            self.assertAlmostEqual(live[name].ppv_m_s, ppv, delta=1e-12 + 1e-6 * abs(ppv), msg=name + " PPV")
-            # The governing component and the DIN 4150-3 verdict: one rule (signal::din4150_3Verdict) for both.
-            self.assertEqual(["vx", "vy", "vz"][live[name].governing_component],
-                             offline["din4150_3"]["governing_component"], name + " governing component")
-            self.assertEqual(live[name].din4150_3_verdict == 0, offline["din4150_3"]["verdict"] == "met",
-                             name + " DIN 4150-3 verdict")
+            self.compare_metrics(name, source, live[name], json.loads(out.stdout), kbf_csv)
         shutil.rmtree(workdir, ignore_errors=True)
+
+    def compare_metrics(self, name, source, m, offline, kbf_csv):
+        """Every field of the live VibrationMetrics against the offline computation (same core code)."""
+        def close(a, b, what, rel=1e-6, floor=1e-12):
+            self.assertAlmostEqual(a, b, delta=floor + rel * abs(b), msg=f"{name} {what}")
+        d2, d3 = offline["din4150_2"], offline["din4150_3"]
+        comps = d3["components"]
+        close(m.kb_f_max, d2["kb_fmax"], "KB_Fmax", floor=1e-9)
+        with open(kbf_csv) as f:
+            last = list(csv.reader(f))[-1]
+        close(m.kb_f, max(float(x) for x in last[1:]), "KB_F at the end", floor=1e-9)
+        close(m.ppv_m_s, d3["vector_peak_mm_s"] * 1e-3, "PPV (vector)")
+        close(m.ppv_vertical_m_s, comps[2]["ppv_mm_s"] * 1e-3, "PPV (vertical)")
+        g = ["vx", "vy", "vz"].index(d3["governing_component"])
+        self.assertEqual(m.governing_component, g, f"{name} governing component")
+        close(m.governing_ppv_m_s, comps[g]["ppv_mm_s"] * 1e-3, "governing PPV")
+        close(m.dominant_frequency_hz, comps[g]["dominant_frequency_hz"], "dominant frequency")
+        close(m.din4150_3_limit_m_s, comps[g]["din4150_3_limit_mm_s"] * 1e-3, "DIN 4150-3 limit")
+        levels = offline["third_octave"]["components"][2]["levels"]
+        self.assertEqual(list(m.third_octave_center_hz), [b["nominal_hz"] for b in levels], f"{name} bands")
+        for live_db, band in zip(m.third_octave_level_db, levels):
+            expected = band["running_level_db"]  # rounded to 0.01 dB by the tool; null for a silent band
+            if expected is None:
+                self.assertFalse(math.isfinite(live_db), f"{name} {band['nominal_hz']} Hz: silent band")
+            else:
+                self.assertAlmostEqual(live_db, expected, delta=0.006, msg=f"{name} {band['nominal_hz']} Hz level")
+        # Verdicts: live sensors judge DIN 4150-2 on KB_Fmax alone (WARN between A_u and A_o).
+        expected_42 = 0 if d2["kb_fmax"] <= d2["a_u"] else (2 if d2["kb_fmax"] > d2["a_o"] else 1)
+        self.assertEqual(m.din4150_2_verdict, expected_42, f"{name} DIN 4150-2 verdict")
+        self.assertEqual(m.din4150_3_verdict == 0, d3["verdict"] == "met", f"{name} DIN 4150-3 verdict")
+        expected_verdict = 2 if source == "building" and d3["verdict"] != "met" else expected_42
+        self.assertEqual(m.verdict, expected_verdict, f"{name} overall verdict")
+
+    def check_report_of_the_bag(self):
+        """scripts/report.py on the bag: exit 0, a metric row per configured sensor, the figures written."""
+        outdir = tempfile.mkdtemp(prefix="railvib_report_")
+        script = pathlib.Path(__file__).resolve().parents[2] / "scripts" / "report.py"
+        out = subprocess.run([sys.executable, str(script), self.bag_path, outdir], capture_output=True, text=True,
+                             start_new_session=True)
+        self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
+        report = pathlib.Path(outdir, "report.md").read_text()
+        for name, _ in self.configured_sensors():
+            self.assertRegex(report, r"\| " + name + r" \| \d", f"no metric row for {name} in report.md")
+        figures = [line[line.index("(") + 1:-1] for line in report.splitlines() if line.startswith("![")]
+        self.assertGreater(len(figures), 0, "no figure in report.md")
+        for f in figures:
+            self.assertGreater(pathlib.Path(outdir, f).stat().st_size, 1000, f)
+        shutil.rmtree(outdir, ignore_errors=True)
 
 
 if __name__ == "__main__":

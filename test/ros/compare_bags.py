@@ -6,7 +6,8 @@ usage: compare_bags.py BAG_A BAG_B [--topics T1,T2,...] [--metrics TOPIC]
 Every stream (default: the five sample streams) must hold the same number of
 blocks, and block k of A must equal block k of B field by field, bit for bit
 (header.seq is roscpp's own counter and is ignored). The metrics topic
-(default /sensor_metrics) is compared too, on the fields both message
+(default /sensor_metrics) is compared too, sensor by sensor (the sensors'
+messages interleave in arrival order), on the fields both message
 definitions have: a field that only one side has (a message that gained a
 field) is listed, not counted as a difference. Exit status 0 when nothing
 differs, 1 otherwise; one line per topic on stdout.
@@ -65,6 +66,12 @@ def differences(a, b, path=""):
 def compare_topic(bag_a, bag_b, topic):
     """(ok, report line) for one topic."""
     a, b = messages(bag_a, topic), messages(bag_b, topic)
+    # Messages of several sensors on one topic (/sensor_metrics) interleave in the order they were
+    # published, which depends on which input stream arrived first: each sensor's own sequence is
+    # the result, so compare sensor by sensor (a stable sort keeps each sensor's order).
+    if a and hasattr(a[0], "sensor_name"):
+        a = sorted(a, key=lambda m: m.sensor_name)
+        b = sorted(b, key=lambda m: getattr(m, "sensor_name", ""))
     if not a and not b:
         return False, f"{topic}: in neither bag"
     if len(a) != len(b):

@@ -1,11 +1,17 @@
 #!/usr/bin/env python3
 """Whole-scenario checks that need several launches (run by CTest, in the workspace environment).
 
-- determinism: two runs of the short Haren scenario (config/haren_ci.yaml) give
-  identical numbers in every stream of their bags;
-- failure handling: a required node killed mid-run stops the launch, and the
-  partial bag is closed cleanly (readable, the streams reported incomplete);
-- a truncated bag given to replay.launch is refused with a clear error, not a crash;
+- determinism: two runs of the short Haren scenario (config/haren_ci.yaml) exit 0,
+  leave whole bags (every stream to its end_of_stream block) and identical numbers
+  in every stream;
+- failure handling: a required node killed mid-run stops the launch with a non-zero
+  exit naming that node, and the partial bag is closed cleanly (readable, the
+  streams that stopped named by the bag check);
+- a truncated bag given to replay.launch is refused with a clear error and a
+  non-zero exit, not a crash;
+- `./railvib run` exits 0 on a good run (with its report) and non-zero on a refused one;
+- with ROS_IP=127.0.0.1 every listening socket of every process of a launch
+  (master, rosout, the railvib nodes) is bound to loopback (`ss -ltnp`);
 - a replay feeds the virtual sensors (same live metrics as in the recording), the
   tram poses on /tf and the RViz scene (soil surface clouds equal to the recorded
   snapshots, site markers), probed by replay_probe.py.
@@ -26,22 +32,35 @@ import xml.etree.ElementTree as ET
 
 import rosbag
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "scripts"))
+import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
+
+LAUNCHER = str(ROOT / "scripts" / "launch_scenario.py")
 
 STREAMS = names.STREAMS
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_scenarios_"))
 PORT = [11500 + os.getpid() % 400]
 
 
-def launch(args, timeout_s=600, kill_node=None, kill_after_s=0.0):
-    """roslaunch on a master of its own; optionally kill one node after a delay. Returns (exit code, output)."""
+def launch(args, timeout_s=600, kill_node=None, kill_after_s=0.0, env_extra=None, on_start=None):
+    """The launch through scripts/launch_scenario.py (roslaunch with an exit code that tells) on a master
+    of its own; optionally kill one node after a delay, or call on_start(process, env) once it runs.
+    Returns (exit code, output)."""
     PORT[0] += 1
     env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
-    cmd = ["roslaunch", "-p", str(PORT[0])] + args
+    for key, value in (env_extra or {}).items():
+        if value is None:
+            env.pop(key, None)
+        else:
+            env[key] = value
+    cmd = [sys.executable, LAUNCHER, "-p", str(PORT[0])] + args
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
                             start_new_session=True)
+    if on_start:
+        on_start(proc, env)
     if kill_node:
         # Kill it mid-run: once it is registered (start-up time varies with the machine's load), then after
         # kill_after_s of running.
@@ -67,13 +86,28 @@ def stream_blocks(bag_path, topic):
         return [m for _, m, _ in bag.read_messages(topics=[topic])]
 
 
+def haren_run(test, name):
+    """The bag of the short Haren run `name`, run once (a recorder never overwrites a bag) and only if
+    that run exited 0: the determinism, replay and truncated-bag checks share run a."""
+    bag = WORK / f"determinism_{name}.bag"
+    if not bag.exists():
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
+        test.assertEqual(code, 0, f"run {name} failed:\n{out[-3000:]}")
+        test.assertTrue(bag.exists(), f"run {name} wrote no bag:\n{out[-3000:]}")
+    return bag
+
+
 class ScenarioChecks(unittest.TestCase):
     def test_two_runs_give_identical_bags(self):
         bags = []
         for name in ("a", "b"):
-            bag = WORK / f"determinism_{name}.bag"
-            code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
-            self.assertTrue(bag.exists(), f"run {name} wrote no bag (exit {code}):\n{out[-3000:]}")
+            bag = haren_run(self, name)
+            checked = bag_check.check_bag(bag)
+            self.assertEqual(checked.code, 0, f"run {name}: {checked.refused} {checked.findings}")
+            self.assertEqual(sorted(checked.expected), sorted(STREAMS))
+            for topic in STREAMS:
+                last = max(stream_blocks(bag, topic), key=lambda m: m.first_sample_index)
+                self.assertTrue(last.end_of_stream, f"run {name}: {topic} has no end_of_stream block")
             bags.append(bag)
         for topic in STREAMS + [names.SENSOR_METRICS]:
             same, line = compare_topic(bags[0], bags[1], topic)
@@ -81,11 +115,13 @@ class ScenarioChecks(unittest.TestCase):
 
     def test_killed_node_stops_the_launch_and_leaves_a_readable_bag(self):
         bag = WORK / "killed.bag"
-        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)], timeout_s=300,
-                           kill_node="/building", kill_after_s=1.0)
+        # 3 s simulated (the CI run's 0.5 s can end within a second of the building node's start).
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "duration:=3.0", "bag:=" + str(bag)],
+                           timeout_s=300, kill_node="/building", kill_after_s=1.0)
         self.assertNotEqual(code, -999, "the launch did not stop after a required node was killed")
-        self.assertIn("building", out.split("REQUIRED process", 1)[-1][:200] if "REQUIRED process" in out else out,
-                      "the launch output should name the node that died")
+        self.assertEqual(code, 1, "the launch must fail when a required node is killed:\n" + out[-3000:])
+        self.assertRegex(out, r"REQUIRED process \[building-\d+\] has died", "the launch output must name the node")
+        self.assertIn("railvib: launch failed: required process [building", out)
         self.assertTrue(bag.exists(), "no bag left behind")
         with rosbag.Bag(str(bag)) as b:  # closed cleanly: opens without reindexing
             self.assertGreater(b.get_message_count(), 0)
@@ -95,11 +131,12 @@ class ScenarioChecks(unittest.TestCase):
             blocks = sorted(stream_blocks(bag, topic), key=lambda m: m.first_sample_index)
             ended.append(bool(blocks) and blocks[-1].end_of_stream)
         self.assertFalse(all(ended), "every stream is complete: the kill came after the end of the run")
+        checked = bag_check.check_bag(bag)
+        self.assertEqual(checked.code, 1, f"{checked.refused} {checked.findings}")
+        self.assertIn(names.BUILDING_RESPONSE, checked.incomplete)
 
     def test_replay_feeds_sensors_tf_and_rviz_scene(self):
-        source = WORK / "determinism_a.bag"
-        if not source.exists():
-            launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(source)])
+        source = haren_run(self, "a")
         PORT[0] += 1
         env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
         probe_out = WORK / "replay_probe.json"
@@ -149,17 +186,87 @@ class ScenarioChecks(unittest.TestCase):
             self.assertAlmostEqual(got["metrics"][name]["ppv_m_s"], live.ppv_m_s, delta=1e-15 + 1e-9 * live.ppv_m_s)
 
     def test_truncated_bag_is_refused_with_a_clear_error(self):
-        source = WORK / "determinism_a.bag"
-        if not source.exists():
-            code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(source)])
+        source = haren_run(self, "a")
         data = source.read_bytes()
         truncated = WORK / "truncated.bag"
         truncated.write_bytes(data[: len(data) // 2])
         code, out = launch(["railvib", "replay.launch", "bag:=" + str(truncated)], timeout_s=120)
         self.assertNotEqual(code, -999, "replay of a truncated bag hung")
+        self.assertEqual(code, 1, "replay of a truncated bag must fail:\n" + out[-3000:])
         self.assertRegex(out, r"bag_replay: .*(cannot read bag|unreadable|holds no message)")
         self.assertNotIn("Segmentation fault", out)
         self.assertNotIn("Traceback", out)
+
+    def test_railvib_run_exits_non_zero_when_the_run_fails(self):
+        env = dict(os.environ, RAILVIB_SKIP_SETUP="1")
+        for args, ok in ((["speed:=2.0", "duration:=0.2"], True), (["speed:=-5", "duration:=0.2"], False)):
+            PORT[0] += 1
+            env["RAILVIB_ROS_PORT"] = str(PORT[0])
+            env["ROS_MASTER_URI"] = f"http://localhost:{PORT[0]}"
+            bag = WORK / f"run_{'ok' if ok else 'refused'}.bag"
+            out = subprocess.run([str(ROOT / "railvib"), "run", "track"] + args + ["bag:=" + str(bag)],
+                                 capture_output=True, text=True, env=env, timeout=600, start_new_session=True)
+            text = out.stdout + out.stderr
+            if ok:
+                self.assertEqual(out.returncode, 0, text[-3000:])
+                self.assertTrue(pathlib.Path(str(bag)[:-4] + "_report", "report.md").exists())
+            else:
+                self.assertNotEqual(out.returncode, 0, text[-3000:])
+                self.assertIn("simulation.speed_m_s = -5", text)
+                self.assertIn("the run FAILED", text)
+        # The bag of the good run is there: a second run to it is refused before anything starts.
+        out = subprocess.run([str(ROOT / "railvib"), "run", "track", "bag:=" + str(WORK / "run_ok.bag")],
+                             capture_output=True, text=True, env=env, timeout=120, start_new_session=True)
+        self.assertNotEqual(out.returncode, 0)
+        self.assertIn("never overwritten", out.stderr)
+
+    def test_loopback_ros_ip_binds_every_server_to_loopback(self):
+        """ROS_IP=127.0.0.1: every listening TCP socket of every process of the launch is on loopback."""
+        seen = {}
+
+        def descendants(pid):
+            children, stack = set(), [pid]
+            while stack:
+                p = stack.pop()
+                try:
+                    kids = pathlib.Path(f"/proc/{p}/task/{p}/children").read_text().split()
+                except OSError:
+                    continue
+                for k in kids:
+                    if int(k) not in children:
+                        children.add(int(k))
+                        stack.append(int(k))
+            return children
+
+        def probe(proc, env):
+            deadline = time.time() + 120
+            while time.time() < deadline and proc.poll() is None:
+                pids = descendants(proc.pid)
+                listing = subprocess.run(["ss", "-ltnpH"], capture_output=True, text=True).stdout
+                for line in listing.splitlines():
+                    fields = line.split()
+                    if len(fields) < 6:
+                        continue
+                    local, users = fields[3], " ".join(fields[5:])
+                    for pid in pids:
+                        if f"pid={pid}," in users:
+                            name = users.split('"')[1] if '"' in users else str(pid)
+                            seen.setdefault(name, set()).add(local.rsplit(":", 1)[0])
+                if {"track_node", "bag_recorder_no", "moving_load_nod", "rosmaster", "rosout_node"} <= set(seen):
+                    break
+                time.sleep(0.2)
+
+        bag = WORK / "loopback.bag"
+        code, out = launch(["railvib", "track.launch", "speed:=2.0", "duration:=2.0", "bag:=" + str(bag)],
+                           env_extra={"ROS_IP": "127.0.0.1", "ROS_HOSTNAME": None}, on_start=probe)
+        self.assertEqual(code, 0, out[-3000:])
+        # Process names as ss shows them (15 characters).
+        # rosout_node: railvib's rosout (launch/core/roscore.xml), which ./railvib's ROS_ETC_DIR selects.
+        for process in ("rosmaster", "rosout_node", "moving_load_nod", "track_node", "bag_recorder_no",
+                        "site_frames_nod"):
+            self.assertIn(process, seen, f"no listening socket of {process} seen: {seen}")
+        exposed = {p: a for p, a in seen.items() if a - {"127.0.0.1", "[::1]", "[::ffff:127.0.0.1]"}}
+        self.assertEqual(exposed, {}, "servers listening beyond loopback with ROS_IP=127.0.0.1")
 
 
 def write_junit(result, tests_run, path):

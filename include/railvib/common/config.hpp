@@ -6,6 +6,14 @@
 // leaf, then command-line / roslaunch overrides ("a.b.c=value") override
 // everything. Every leaf remembers the file it came from, so an error names
 // the key path, the value, the allowed range and the file.
+//
+// Strictness: every file is at most kMaxConfigBytes, a map may not repeat a
+// key, anchors and aliases are limited (kMaxAliasDepth, kMaxExpandedNodes),
+// and every accessor of ConfigNode records the key it asked for, so
+// Config::refuseUnknownKeys() can refuse what no loader knows (a typo) with the
+// nearest valid key. A choice (e.g. `model: clm`) makes the sibling sections
+// named after its other allowed values (`winkler:`) inactive alternatives:
+// known, not read.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -49,6 +57,16 @@ struct Range {
 namespace detail {
 struct ConfigData;
 }
+
+/// Limits on what a configuration may be (each file, and each override value).
+constexpr size_t kMaxConfigBytes = 1 << 20;   // the whole Haren scenario is ~30 KB
+constexpr int kMaxConfigNesting = 32;         // levels of maps and lists
+constexpr int kMaxAliasDepth = 2;             // an alias of an anchor that holds aliases, no deeper
+constexpr size_t kMaxExpandedNodes = 100000;  // nodes once every alias is expanded
+/// No number of a scenario, in SI units, exceeds this magnitude (a Young's modulus is ~1e11 Pa; a
+/// Hertz constant raised to make the contact rigid in a test is 1e16): whatever a key's own range,
+/// a larger one (1e300) is refused.
+constexpr double kMaxConfigMagnitude = 1e18;
 
 /// A map node of the merged configuration, with its dotted key path.
 class ConfigNode {
@@ -94,9 +112,14 @@ class ConfigNode {
   /// Raise a ConfigError about `key` (consistency checks between values).
   [[noreturn]] void fail(const std::string& key, const std::string& reason) const;
 
+  /// The raw node. Reading it bypasses the key record: a loader that does must mark what it
+  /// reads with markKnown().
   const YAML::Node& yaml() const { return node_; }
+  /// Record `key` (and everything below it) as known without reading it.
+  void markKnown(const std::string& key) const;
 
  private:
+  void record(const std::string& key) const;
   YAML::Node required(const std::string& key) const;
   [[noreturn]] void failValue(const std::string& key, const YAML::Node& value, const std::string& reason) const;
 
@@ -120,6 +143,12 @@ class Config {
   std::string dump() const;
   /// The scenario file this configuration was loaded from.
   const std::string& file() const;
+
+  /// Keys present in the configuration that no accessor asked for (after every loader ran), each
+  /// with the nearest valid key ("did you mean"), one line per key, in the error format.
+  std::vector<std::string> unknownKeys() const;
+  /// Throws ConfigError listing unknownKeys(), if any.
+  void refuseUnknownKeys() const;
 
  private:
   explicit Config(std::shared_ptr<detail::ConfigData> data) : data_(std::move(data)) {}

@@ -41,6 +41,9 @@ inline constexpr const char* kSensorMetricsTopic = "sensor_metrics";
 inline constexpr const char* kDiagnosticsTopic = "/diagnostics";
 inline constexpr const char* kTfTopic = "/tf";
 inline constexpr const char* kClockTopic = "/clock";
+/// std_msgs/String (JSON) the recorder writes into its bag when it closes it: the streams it was
+/// told to record, which of them are complete, and why it closed (scripts/bag_check.py reads it).
+inline constexpr const char* kRecordingStatusTopic = "/railvib/recording";
 inline constexpr const char* kSiteMarkersTopic = "visualization/site";
 inline constexpr const char* kSurfaceCloudTopic = "visualization/surface_velocity";
 /// Per-sensor topics: sensors/<name>/imu, .../velocity, .../metrics.

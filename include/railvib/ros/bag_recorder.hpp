@@ -10,6 +10,13 @@
 // stream has delivered its end_of_stream block (plus ~linger_s for messages
 // still in flight on other topics). On a gap, or on shutdown, the
 // bag is closed cleanly (readable) and the reason is logged.
+//
+// Results are never lost or overwritten: an existing bag_path is refused; before each write the
+// recorder checks that the file system keeps ~min_free_mb (plus the index) free, and otherwise
+// stops with "disk full" and closes the bag while it still can (indexed, readable, the streams
+// reported incomplete); a write error closes it too. Closing writes a std_msgs/String (JSON) on
+// names::kRecordingStatusTopic into the bag: the expected streams, which are complete, why it
+// closed, so the bag itself tells whether the run was whole (scripts/bag_check.py).
 #pragma once
 
 #include <ros/ros.h>
@@ -27,8 +34,9 @@ namespace railvib::ros_io {
 
 class BagRecorder {
  public:
-  /// Parameters (private): ~bag_path, ~streams (list), ~topics (list, header-stamped),
-  /// ~tf_topics (list of tf2_msgs/TFMessage topics), ~compression (lz4|none), ~linger_s.
+  /// Parameters (private): ~bag_path (must not exist), ~streams (list), ~topics (list,
+  /// header-stamped), ~tf_topics (list of tf2_msgs/TFMessage topics), ~compression (lz4|none),
+  /// ~linger_s, ~min_free_mb (default 2).
   BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   ~BagRecorder();
 
@@ -36,6 +44,8 @@ class BagRecorder {
   void poll();
   bool finished() const { return finished_; }
   bool failed() const { return failed_; }
+  /// Every expected stream delivered its end_of_stream block.
+  bool complete() const;
   /// Close the bag (idempotent) and print per-topic counts.
   void close(const std::string& reason);
 
@@ -49,6 +59,10 @@ class BagRecorder {
     ros::Time first_stamp, last_stamp;
   };
   void onMessage(const std::string& topic, const ros::MessageEvent<topic_tools::ShapeShifter const>& event);
+  bool roomToWrite(size_t next_bytes) const;
+  std::string describeSpace() const;
+  std::vector<std::string> incompleteStreams() const;
+  void writeRecordingStatus(const std::string& status);
 
   rosbag::Bag bag_;
   std::string bag_path_;
@@ -58,9 +72,14 @@ class BagRecorder {
   bool all_streams_complete_ = false;
   ros::WallTime all_streams_complete_at_;
   double linger_s_ = 1.0;
+  double min_free_mb_ = 2.0;
+  std::string space_path_;
+  std::vector<std::string> expected_streams_;
+  uint64_t message_count_ = 0;
+  ros::Time latest_stamp_;
   std::map<std::string, TopicState> topics_;
   std::vector<ros::Subscriber> subscribers_;
-  ros::Publisher status_publisher_;
+  ros::Publisher status_publisher_, diagnostics_publisher_;
 };
 
 }  // namespace railvib::ros_io

@@ -15,6 +15,8 @@
 #include "railvib/SurfaceVelocities.h"
 #include "railvib/building/model.hpp"
 #include "railvib/building/response.hpp"
+#include "railvib/common/sample_stream.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/block_publisher.hpp"
 #include "railvib/ros/layout_gate.hpp"
 #include "railvib/ros/node_status.hpp"
@@ -35,9 +37,13 @@ class BuildingNode {
   std::unique_ptr<building::BuildingModel> model_;
   std::unique_ptr<building::BuildingResponseSolver> solver_;
   std::vector<building::FootprintPoint> footprint_;
-  std::vector<int> receiver_of_footprint_;  // soil receiver index of each footprint point
-  LayoutGate gate_;                         // velocities wait for the receiver layout
-  BuildingPlacement placement_;             // frame building in frame track
+  std::vector<size_t> receiver_of_footprint_;  // soil receiver index of each footprint point
+  uint32_t receiver_count_ = 0;                // receivers of the surface_points layout
+  double receiver_rate_hz_ = 0.0;              // soil.output.receiver_rate_hz
+  StreamLimits limits_;
+  SampleIndexTracker tracker_{"surface_velocities"};
+  LayoutGate gate_;              // velocities wait for the receiver layout
+  BuildingPlacement placement_;  // frame building in frame track
   BlockPublisher<railvib::BuildingResponse> publisher_;
   ros::Publisher layout_publisher_;
   ros::Subscriber layout_subscriber_, velocity_subscriber_;

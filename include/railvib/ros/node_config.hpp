@@ -1,25 +1,42 @@
 // railvib ROS layer: every node loads the same scenario configuration, named
-// by the global parameters /railvib/config_file and /railvib/config_overrides
-// (a list of "key.path=value" strings set by the launch file's arguments).
+// by the global parameter /railvib/config_file, with the launch arguments the
+// launch file puts under /railvib/launch_arguments/<name> (one parameter per
+// argument, each mapped to one config key: an argument's value can never name
+// another key), then validates the whole scenario (scenario::validateScenario).
 #pragma once
 
 #include <ros/ros.h>
+
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "railvib/common/config.hpp"
 
 namespace railvib::ros_io {
 
-/// Load the scenario config; throws ConfigError (the node logs it and exits non-zero).
+/// Launch argument -> config key it overrides (speed:= -> simulation.speed_m_s, ...).
+const std::vector<std::pair<std::string, std::string>>& launchArgumentKeys();
+
+/// "key=value" overrides of the launch arguments (an empty value keeps the config's); throws
+/// ConfigError for an argument that is not in launchArgumentKeys() or a value that is not one plain
+/// value (a list or map).
+std::vector<std::string> launchArgumentOverrides(const std::vector<std::pair<std::string, std::string>>& arguments);
+
+/// Load and validate the scenario config; throws ConfigError (the node logs it and exits non-zero).
 Config loadNodeConfig(ros::NodeHandle& nh);
 
-/// Run a node body, turning exceptions into a FATAL log line and exit code 1.
+/// The node cannot start: FATAL line, ERROR on /diagnostics (latched, given a moment to go out).
+void reportStartFailure(const std::string& node, const std::string& message);
+
+/// Run a node body, turning exceptions into a FATAL log line, ERROR on /diagnostics and exit code 1.
 template <class Body>
 int runNode(const char* name, Body&& body) {
   try {
     body();
     return 0;
   } catch (const std::exception& e) {
-    ROS_FATAL("%s: %s", name, e.what());
+    reportStartFailure(name, e.what());
     return 1;
   }
 }

@@ -17,6 +17,7 @@
 #include "railvib/SectionSnapshot.h"
 #include "railvib/SurfaceSnapshot.h"
 #include "railvib/SurfaceVelocities.h"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/block_publisher.hpp"
 #include "railvib/ros/layout_gate.hpp"
 #include "railvib/ros/node_status.hpp"
@@ -42,6 +43,7 @@ class SoilNode {
   soil::SoilParams params_;
   std::unique_ptr<soil::SoilModel> model_;
   double load_sample_rate_hz_ = 0.0;
+  StreamLimits limits_;
   BlockPublisher<railvib::SurfaceVelocities> velocity_publisher_;
   ros::Publisher layout_publisher_, snapshot_publisher_, section_publisher_;
   std::vector<soil::RigidBodySpec> bodies_;  // attached to the soil model (a two-way house's foundation)

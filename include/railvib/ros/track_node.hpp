@@ -10,6 +10,7 @@
 #include "railvib/ContactForces.h"
 #include "railvib/SoilLoads.h"
 #include "railvib/common/sample_stream.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/block_publisher.hpp"
 #include "railvib/ros/node_status.hpp"
 #include "railvib/track/soil_load_stream.hpp"
@@ -36,6 +37,8 @@ class TrackNode {
   std::vector<double> pending_;  // soil-load samples not yet published, [sample][sleeper]
   uint64_t next_load_index_ = 0;
   size_t block_samples_ = 100;
+  uint32_t wheel_count_ = 0;  // the vehicle's axles (vehicle.axle_offsets_m)
+  StreamLimits limits_;
   std::unique_ptr<NodeStatus> status_;
   bool ended_ = false;
 };

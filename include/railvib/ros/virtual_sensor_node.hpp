@@ -19,6 +19,7 @@
 #include "railvib/PointLayout.h"
 #include "railvib/SensorSamples.h"
 #include "railvib/common/sample_stream.hpp"
+#include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/block_publisher.hpp"
 #include "railvib/ros/layout_gate.hpp"
 #include "railvib/ros/node_status.hpp"
@@ -57,6 +58,8 @@ class VirtualSensorNode {
     std::string name;
     std::unique_ptr<SampleIndexTracker> tracker;
     std::vector<std::string> point_names;
+    std::string count_field;  // the block's point count field
+    std::string layout_name;  // its latched layout, for messages
     bool ended = false;
     LayoutGate gate;  // blocks wait for the latched point layout
     ros::Subscriber layout_sub, data_sub;
@@ -70,6 +73,8 @@ class VirtualSensorNode {
   void restartPass(Source& source);
 
   signal::VirtualSensorConfig config_;
+  StreamLimits limits_;
+  double input_rate_hz_ = 0.0;  // soil.output.receiver_rate_hz: both sources run at it
   std::vector<Sensor> sensors_;
   std::vector<std::unique_ptr<Source>> sources_;
   BlockPublisher<railvib::SensorSamples> samples_publisher_;

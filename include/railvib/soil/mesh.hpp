@@ -63,6 +63,9 @@ struct LayerMeshInfo {
   Material material;
 };
 
+/// buildMesh refuses meshes with more elements (a 10^10-element mesh needs ~1 TB).
+constexpr double kMaxMeshElements = 1.0e10;
+
 struct StructuredMesh {
   size_t nx = 0, ny = 0, nz = 0;
   double x0 = 0.0, y0 = 0.0, hx = 0.0, hy = 0.0;

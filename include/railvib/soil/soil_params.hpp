@@ -53,5 +53,8 @@ struct SoilParams {
 /// Throws ConfigError (key path, value, range, file) on bad input, including receivers outside the
 /// mesh box or in its absorbing layer, and a mesh that would not fit in max_memory_gb.
 SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house = {});
+/// soil.output.receiver_rate_hz alone (the rate of the soil's velocity stream, for its consumers),
+/// read by the same rule as loadSoilParams, without building the mesh.
+double loadReceiverRateHz(const ConfigNode& root);
 
 }  // namespace railvib::soil

@@ -135,6 +135,8 @@ struct MeasuredProfileParams {
   bool enabled = false;
   std::string file;    ///< CSV with columns x_m, z_m (z up, m)
   double scale = 1.0;  ///< multiplies z
+  /// Largest |scale x z| accepted (limits.unevenness_m): a profile beyond it is refused.
+  double max_abs_m = 0.1;
 };
 
 struct DefectParams {

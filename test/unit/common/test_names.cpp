@@ -45,6 +45,7 @@ TEST(Names, PythonMirrorAgrees) {
       {"SENSOR_METRICS", std::string("/") + names::kSensorMetricsTopic},
       {"SITE_MARKERS", std::string("/") + names::kSiteMarkersTopic},
       {"SURFACE_CLOUD", std::string("/") + names::kSurfaceCloudTopic},
+      {"RECORDING_STATUS", names::kRecordingStatusTopic},
       {"RECEIVER_LINE_PREFIX", names::receiverLinePoint(0.0).substr(0, 6)},
       {"BUILDING_RESPONSE_FREE_FIELD_POINT", names::kBuildingResponseFreeFieldPoint},
   };

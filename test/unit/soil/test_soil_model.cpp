@@ -237,7 +237,7 @@ TEST(SoilParams, SharedValuesAreRefusedByTheirOneLoader) {
   EXPECT_NE(gauge.find("(0.5, 2)"), std::string::npos) << gauge;
   EXPECT_EQ(message("site.rail_gauge_m=5.0", soil), gauge);
   const std::string spacing = message("track.sleeper.spacing_m=6.0", track);
-  EXPECT_NE(spacing.find("(0, 5]"), std::string::npos) << spacing;
+  EXPECT_NE(spacing.find("[0.05, 5]"), std::string::npos) << spacing;
   EXPECT_EQ(message("track.sleeper.spacing_m=6.0", soil), spacing);
   const std::string extent = message("track.extent.x_max_m=-60.0", track);
   EXPECT_NE(extent.find("greater than x_min_m"), std::string::npos) << extent;

@@ -93,7 +93,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"nan", "    stiffness_n_m: 90.0e6", "    stiffness_n_m: .nan", "track.railpad.stiffness_n_m", "nan"},
         BadCase{"wrong_type", "    stiffness_n_m: 32.0e6", "    stiffness_n_m: soft", "track.ballast.stiffness_n_m",
                 "soft"},
-        BadCase{"zero_spacing", "    spacing_m: 0.72", "    spacing_m: 0", "track.sleeper.spacing_m", "(0, 5]"},
+        BadCase{"zero_spacing", "    spacing_m: 0.72", "    spacing_m: 0", "track.sleeper.spacing_m", "[0.05, 5]"},
         BadCase{"unknown_foundation", "    model: clm", "    model: elastic", "track.foundation.model", "elastic"},
         BadCase{"x_max_below_x_min", "    x_max_m: 50.0", "    x_max_m: -60.0", "track.extent.x_max_m",
                 "greater than x_min_m"},

@@ -1,0 +1,21 @@
+// railvib/scenario: a whole scenario checked at once, before anything runs.
+//
+// validateScenario() runs the loader of every section (the same loaders the nodes and tools use),
+// the checks that need two sections (rates of the streams between the steps, sensor points, files
+// that must exist and be valid), then refuses every key no loader asked for (a typo), with the
+// nearest valid key. `railvib_tool config-check`, every railvib_tool command that takes --config,
+// and every node call it, so a scenario is refused in one place, with the key, the value, the
+// allowed range or reason, and the file.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "railvib/common/config.hpp"
+
+namespace railvib::scenario {
+
+/// Throws ConfigError. Returns a summary: the sections, the virtual sensors (name, source, point),
+/// the stream rates.
+nlohmann::json validateScenario(const Config& config);
+
+}  // namespace railvib::scenario

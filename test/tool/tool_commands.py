@@ -1,0 +1,237 @@
+#!/usr/bin/env python3
+"""Every railvib_tool subcommand, once, on a small case, with a property of its result.
+
+usage: tool_commands.py [--tool RAILVIB_TOOL] [JUNIT_XML]
+
+Each case runs one command (exit 0, a JSON summary on stdout) and asserts something true of what
+it computed (an equilibrium, a standard's value, a rigid-body motion, a count), so a command that
+runs but computes nonsense fails too. The set of commands is checked against `railvib_tool --help`:
+a new command without a case here fails the test.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CI = str(ROOT / "config" / "haren_ci.yaml")
+WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_tool_commands_"))
+
+
+class Failure(Exception):
+    pass
+
+
+def check(condition, message):
+    if not condition:
+        raise Failure(message)
+
+
+def rows(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+class Cases:
+    def __init__(self, tool):
+        self.tool = tool
+
+    def run(self, *args, timeout=900):
+        out = subprocess.run([self.tool] + [str(a) for a in args], capture_output=True, text=True, timeout=timeout)
+        check(out.returncode == 0, f"exit {out.returncode}: {out.stderr[-2000:]}")
+        return json.loads(out.stdout)
+
+    # ------------------------------------------------------------------ config
+    def config_check(self):
+        s = self.run("config-check", "--config", CI)
+        check(s["valid"] and len(s["virtual_sensors"]) == 4, s)
+
+    # ------------------------------------------------------------------ track
+    def receptance(self):
+        path = WORK / "receptance.csv"
+        s = self.run("receptance", "--config", CI, "--fmin", 10, "--fmax", 300, "--df", 2, "--csv", path)
+        check(s["static_receptance_m_n"] > 0 and s["peaks"], s)
+        check(len(rows(path)) == s["frequencies"], "one CSV row per frequency")
+
+    def moving_load(self):
+        path = WORK / "moving_load.csv"
+        s = self.run("moving-load", "--config", CI, "--dt", 1e-4, "--rate", 1000, "--duration", 0.7, "--speed", 5,
+                     "--csv", path)
+        # Quasi-static moving loads: the sleepers carry what the wheels apply (both rails).
+        check(s["max_rel_error_sum_soil_loads_vs_applied_after_0_5_s"] < 0.01, s)
+        check(s["rows"] == len(rows(path)), "rows")
+
+    def track_bench(self):
+        s = self.run("track-bench", "--config", CI, "--length", 40, "--steps", 200, "--repeats", 1)
+        check(all(x["us_per_step_moving_loads_median"] > 0 for x in s["solvers"]), s)
+
+    # ------------------------------------------------------------------ vehicle
+    def vehicle_modes(self):
+        s = self.run("vehicle-modes", "--config", CI)
+        f = [m["f0_hz"] for m in s["modes"]]
+        check(f and all(x > 0 for x in f) and f == sorted(f), f"modes: {f}")
+
+    def wheel_impedance(self):
+        s = self.run("wheel-impedance", "--config", CI, "--points", 20, "--csv", WORK / "impedance.csv")
+        check(s["min_abs_z_n_s_m"] > 0 and 1 <= s["f_at_min_abs_z_hz"] <= 200, s)
+
+    def passage(self):
+        out = WORK / "passage"
+        s = self.run("passage", "--config", CI, "--duration", 0.05, "--out", out)
+        check(s["steps"] == 5000, s)
+        self.passage_dir = out
+        # The soil loads of the first sample carry the tram's weight on both rails.
+        loads = rows(out / "soil_loads.csv")
+        total = sum(float(v) for k, v in loads[0].items() if k != "t_s")
+        check(abs(total / (2 * s["weight_per_rail_n"]) - 1) < 0.01, f"{total} vs 2 x {s['weight_per_rail_n']}")
+
+    # ------------------------------------------------------------------ soil
+    def soil(self):
+        if not hasattr(self, "passage_dir"):
+            self.passage()
+        out = WORK / "soil"
+        s = self.run("soil", "--config", CI, "--loads", self.passage_dir / "soil_loads.csv", "--out", out,
+                     "--duration", 0.02)
+        r = rows(out / "receivers.csv")
+        check(len(r) == 21, f"{len(r)} receiver frames for 0.02 s at 1 kHz")
+        check(all(math.isfinite(v["peak_abs_vz_m_s"]) for v in s["receiver_peaks"].values()), "finite peaks")
+
+    def soil_bench(self):
+        s = self.run("soil-bench", "throughput", "--nx", 16, "--ny", 8, "--nz", 4, "--steps", 3, "--repeat", 1,
+                     "--precision", "float")
+        # Each kernel side by side (soil.mesh.kernel: element, the baseline, and stencil).
+        kernels = [k for k in ("element", "stencil") if k in s["float"]]
+        check("element" in kernels, s["float"].keys())
+        for k in kernels:
+            check(s["float"][k]["threads_1"]["median_element_updates_per_s"] > 0, s["float"][k])
+        s = self.run("soil-bench", "column", "--precision", "float")
+        check(abs(s["float"]["velocity_error"]) < 0.05, s)
+        s = self.run("soil-bench", "damping", "--precision", "float")
+        check(all(abs(m["relative_error"]) < 0.2 for m in s["modes"]), s)
+
+    def ssi_bench(self):
+        # Coarse (two meshes, three boxes of a quarter model): no accuracy, but what must hold at any size:
+        # a box with a fixed bottom is stiffer than the half-space, the less the larger it is; a finer mesh
+        # is softer (the footing's edge); the references are the published ones.
+        s = self.run("ssi-bench", "footing-static", "--mode", "vertical", "--h", "0.5,0.25", "--boxes", "2,3,4",
+                     "--tolerance", 1e-4, "--threads", 1)
+        v = s["vertical"]
+        boxes = [r["normalised"] for r in v["box_sweep"]["runs"]]
+        check(len(boxes) == 3 and boxes == sorted(boxes, reverse=True) and boxes[-1] > 0, boxes)
+        meshes = [r["normalised"] for r in v["mesh_sweep"]["runs"]]
+        check(len(meshes) == 2 and meshes[1] < meshes[0], meshes)
+        check(0 < v["fe_normalised"] < boxes[-1], v["fe_normalised"])
+        check(abs(v["gazetas_1991_normalised"] - 4.54) < 1e-9 and abs(v["pais_kausel_1988_normalised"] - 4.7) < 1e-9, v)
+
+    # ------------------------------------------------------------------ building
+    def building_modes(self):
+        s = self.run("building-modes", "--config", CI, "--fmax", 30)
+        f = s["modal_frequencies_hz"] if "modal_frequencies_hz" in s else [m["frequency_hz"] for m in s["modes"]]
+        check(f and all(x > 0 for x in f), s.keys())
+        check(abs(s["mass"]["relative_difference"]) < 1e-9, s["mass"])
+
+    def building_tf(self):
+        s = self.run("building-tf", "--config", CI, "--duration", 2, "--fmax", 30, "--df", 0.5, "--csv",
+                     WORK / "tf.csv")
+        # Below the first mode the house moves with its foundation: |H| = 1.
+        check(all(p["max_deviation_from_1_below_2hz"] < 0.05 for p in s["points"]), s["points"])
+
+    def building_footprint(self):
+        s = self.run("building-footprint", "--config", CI)
+        check(len(s["points"]) == 21 * 15, len(s["points"]))
+        self.footprint = [p["name"] for p in s["points"]]
+
+    def building_response(self):
+        if not hasattr(self, "footprint"):
+            self.building_footprint()
+        # The foundation moving rigidly and slowly (0.5 Hz vertical, 1 mm/s): the floors follow it.
+        path = WORK / "footprint.csv"
+        with open(path, "w") as f:
+            f.write("time_s," + ",".join(f"{n}{c}" for n in self.footprint for c in ("_vx", "_vy", "_vz")) + "\n")
+            for i in range(2001):
+                t = i * 1e-3
+                vz = 1e-3 * math.sin(2 * math.pi * 0.5 * t)
+                f.write(repr(t) + ("," + "0,0," + repr(vz)) * len(self.footprint) + "\n")
+        s = self.run("building-response", "--config", CI, "--footprint", path, "--out", WORK / "response.csv")
+        for p in s["points"]:
+            check(abs(p["peak_velocity_m_s"][2] / 1e-3 - 1) < 0.02, p)
+
+    # ------------------------------------------------------------------ signal
+    def metrics(self):
+        path = WORK / "sine.csv"
+        with open(path, "w") as f:
+            f.write("t_s,vz\n")
+            for i in range(4001):
+                f.write(f"{i * 1e-3!r},{1e-3 * math.sin(2 * math.pi * 10 * i * 1e-3)!r}\n")
+        s = self.run("metrics", "--csv", path, "--column", "vz")
+        c = s["din4150_3"]["components"][0]
+        check(abs(c["ppv_mm_s"] - 1.0) < 0.01 and abs(c["dominant_frequency_hz"] - 10) < 0.5, c)
+
+    def din_check(self):
+        s = self.run("din-check", "--rate", "1000")
+        check(s["pass"], s)
+
+    def decimator_check(self):
+        s = self.run("decimator-check", "--channels", 4)
+        check(s["passband_ripple_db"] < 0.1 and s["stopband_db"] < -60, s)
+
+
+COMMANDS = {
+    "config-check": "config_check", "receptance": "receptance", "moving-load": "moving_load",
+    "track-bench": "track_bench", "vehicle-modes": "vehicle_modes", "wheel-impedance": "wheel_impedance",
+    "passage": "passage", "soil": "soil", "soil-bench": "soil_bench", "building-modes": "building_modes",
+    "building-tf": "building_tf", "building-response": "building_response",
+    "building-footprint": "building_footprint", "metrics": "metrics", "din-check": "din_check",
+    "decimator-check": "decimator_check",
+    "ssi-bench": "ssi_bench",
+}
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="every railvib_tool subcommand on a small case")
+    parser.add_argument("--tool")
+    parser.add_argument("junit", nargs="?")
+    options = parser.parse_args(argv[1:])
+    sys.path.insert(0, str(ROOT / "scripts"))
+    from railvib_paths import find_railvib_tool
+    tool = options.tool or find_railvib_tool()
+    listed = subprocess.run([tool, "--help"], capture_output=True, text=True).stdout
+    registered = [line.split()[0] for line in listed.splitlines() if line.startswith("  ")]
+    results = []
+    missing = sorted(set(registered) - set(COMMANDS))
+    if missing:
+        results.append(("every command has a case", f"no case for: {', '.join(missing)}", 0.0))
+    cases = Cases(tool)
+    for command, method in COMMANDS.items():
+        start = time.time()
+        try:
+            if command not in registered:
+                raise Failure(f"{command} is not a railvib_tool command any more")
+            getattr(cases, method)()
+            error = None
+        except (Failure, subprocess.TimeoutExpired, json.JSONDecodeError, KeyError, ValueError) as e:
+            error = f"{type(e).__name__}: {e}"
+        results.append((command, error, time.time() - start))
+        print(f"[{'FAIL' if error else ' ok '}] {command} ({time.time() - start:.1f} s) {error or ''}", flush=True)
+    if options.junit:
+        suite = ET.Element("testsuite", name="tool_commands", tests=str(len(results)))
+        for name, error, seconds in results:
+            case = ET.SubElement(suite, "testcase", classname="ToolCommands", name=name, time=f"{seconds:.1f}")
+            if error:
+                ET.SubElement(case, "failure", message="failed").text = error
+        pathlib.Path(options.junit).parent.mkdir(parents=True, exist_ok=True)
+        ET.ElementTree(suite).write(options.junit, encoding="utf-8", xml_declaration=True)
+    shutil.rmtree(WORK, ignore_errors=True)
+    return 1 if any(e for _, e, _ in results) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,188 @@
+// Config strictness: unknown keys (with the nearest valid key), repeated keys, aliases, sizes,
+// paths that are not files. The loaders record what they read; what they never asked for is a
+// typo.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include "railvib/common/config.hpp"
+
+using railvib::Config;
+using railvib::ConfigError;
+using railvib::Range;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string errorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectContains(const std::string& message, const std::vector<std::string>& fragments) {
+  EXPECT_FALSE(message.empty()) << "expected a ConfigError";
+  for (const auto& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("railvib_strict_" + name + "_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path writeFile(const fs::path& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+// A small "loader": reads track.rail.{mass_kg, n} and the track.model choice, as a real one does.
+void readTrack(const Config& c) {
+  const auto track = c.section("track");
+  const auto rail = track.section("rail");
+  rail.number("mass_kg", Range::positive());
+  rail.integer("n", 1, 10, 4);
+  const std::string model = track.choice("model", {"clm", "winkler"});
+  track.section(model).number("k_n_m", Range::positive());
+}
+
+}  // namespace
+
+TEST(ConfigStrict, EveryKeyReadIsKnown) {
+  const Config c = Config::fromString("track:\n  rail: {mass_kg: 54}\n  model: clm\n  clm: {k_n_m: 1}\n", "t.yaml");
+  readTrack(c);
+  EXPECT_TRUE(c.unknownKeys().empty());
+  EXPECT_NO_THROW(c.refuseUnknownKeys());
+}
+
+TEST(ConfigStrict, TypoIsRefusedWithTheNearestKeyAndTheFile) {
+  const Config c =
+      Config::fromString("track:\n  rail: {mass_kg: 54, mass_kgg: 55}\n  model: clm\n  clm: {k_n_m: 1}\n", "t.yaml");
+  readTrack(c);
+  expectContains(errorOf([&] { c.refuseUnknownKeys(); }),
+                 {"track.rail.mass_kgg = 55", "unknown key", "did you mean track.rail.mass_kg?", "t.yaml"});
+}
+
+TEST(ConfigStrict, AnOptionalKeyNotSetIsStillAValidSuggestion) {
+  // `n` has a default and is absent: a misspelt `nn` is still pointed at it.
+  const Config c = Config::fromString("track:\n  rail: {mass_kg: 54, nn: 3}\n  model: clm\n  clm: {k_n_m: 1}\n");
+  readTrack(c);
+  expectContains(errorOf([&] { c.refuseUnknownKeys(); }), {"track.rail.nn", "did you mean track.rail.n?"});
+}
+
+TEST(ConfigStrict, UnknownSectionIsRefusedOnceAndFarKeysListTheValidOnes) {
+  const Config c =
+      Config::fromString("trak: {a: 1}\ntrack:\n  rail: {mass_kg: 54, zzzzzzzz: 1}\n  model: clm\n  clm: {k_n_m: 1}\n");
+  readTrack(c);
+  const auto lines = c.unknownKeys();
+  ASSERT_EQ(lines.size(), 2u);
+  const std::string all = lines[0] + "\n" + lines[1];
+  expectContains(all, {"trak = {a: 1}", "did you mean track?", "track.rail.zzzzzzzz", "valid keys here: mass_kg, n"});
+  EXPECT_EQ(all.find("trak.a"), std::string::npos) << "an unknown section is reported once, not per key";
+}
+
+TEST(ConfigStrict, TheAlternativeNotChosenIsKnownNotRead) {
+  // model: clm; the winkler section stays in the file for when the model is switched.
+  const Config c = Config::fromString(
+      "track:\n  rail: {mass_kg: 54}\n  model: clm\n  clm: {k_n_m: 1}\n  winkler: {anything: 2}\n  winklr: {x: 1}\n");
+  readTrack(c);
+  const auto lines = c.unknownKeys();
+  ASSERT_EQ(lines.size(), 1u);
+  expectContains(lines[0], {"track.winklr", "did you mean track.winkler?"});
+}
+
+TEST(ConfigStrict, ListEntriesShareTheirKeys) {
+  const Config c = Config::fromString("layers:\n  - {thickness_m: 1}\n  - {thickness_m: 2, thicknes_m: 3}\n");
+  for (const auto& l : c.root().sectionList("layers")) l.number("thickness_m", Range::positive());
+  expectContains(errorOf([&] { c.refuseUnknownKeys(); }),
+                 {"layers[1].thicknes_m", "did you mean layers[1].thickness_m?"});
+}
+
+TEST(ConfigStrict, OverrideTyposAreRefusedNamingTheOverride) {
+  const fs::path dir = tempDir("override");
+  const fs::path f = writeFile(dir, "s.yaml", "track:\n  rail: {mass_kg: 54}\n  model: clm\n  clm: {k_n_m: 1}\n");
+  const Config c = Config::load(f.string(), {"track.rail.mas_kg=3"});
+  readTrack(c);
+  expectContains(errorOf([&] { c.refuseUnknownKeys(); }),
+                 {"track.rail.mas_kg = 3", "did you mean track.rail.mass_kg?", "command-line override"});
+  fs::remove_all(dir);
+}
+
+TEST(ConfigStrict, DuplicateKeysAreRefusedWithBothLines) {
+  expectContains(errorOf([] { Config::fromString("a:\n  b: 1\n  c: 2\n  b: 3\n", "dup.yaml"); }),
+                 {"dup.yaml:4", "duplicate key 'a.b'", "first set at line 2"});
+  expectContains(errorOf([] { Config::fromString("a: {b: 1, b: 2}\n", "flow.yaml"); }), {"duplicate key 'a.b'"});
+  expectContains(errorOf([] { Config::fromString("x: 1\nx: 1\n", "top.yaml"); }), {"duplicate key 'x'"});
+  // The same key in two entries of a list is no duplicate.
+  EXPECT_NO_THROW(Config::fromString("l:\n  - {n: 1}\n  - {n: 2}\n"));
+}
+
+TEST(ConfigStrict, DuplicateKeysInAnIncludedFileNameThatFile) {
+  const fs::path dir = tempDir("dupinc");
+  writeFile(dir, "base.yaml", "track:\n  a_m: 1\n  a_m: 2\n");
+  const fs::path top = writeFile(dir, "top.yaml", "include: [base.yaml]\n");
+  expectContains(errorOf([&] { Config::load(top.string()); }), {"base.yaml:3", "duplicate key 'track.a_m'"});
+  fs::remove_all(dir);
+}
+
+TEST(ConfigStrict, AliasBombIsRefusedBeforeItIsExpanded) {
+  // Billion laughs: each level nine aliases of the previous one.
+  std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x]\n";
+  std::string prev = "a";
+  for (char level = 'b'; level <= 'j'; ++level) {
+    const std::string name(1, level);
+    bomb += name + ": &" + name + " [";
+    for (int i = 0; i < 9; ++i) bomb += (i ? ", *" : "*") + prev;
+    bomb += "]\n";
+    prev = name;
+  }
+  expectContains(errorOf([&] { Config::fromString(bomb, "bomb.yaml"); }), {"bomb.yaml", "aliases nested"});
+  // Wide instead of deep: one anchor, many aliases of it, each one level deep: the size limit.
+  std::string wide = "a: &a [";
+  for (int i = 0; i < 1000; ++i) wide += (i ? ", " : "") + std::to_string(i);
+  wide += "]\nb: [";
+  for (int i = 0; i < 200; ++i) wide += (i ? ", *a" : "*a");
+  wide += "]\n";
+  expectContains(errorOf([&] { Config::fromString(wide, "wide.yaml"); }),
+                 {"wide.yaml", "once its aliases are expanded"});
+  // A plain alias of a value is fine.
+  EXPECT_NO_THROW(Config::fromString("a: &v 3\nb: *v\n"));
+}
+
+TEST(ConfigStrict, OversizedDeepAndMultiDocumentFilesAreRefused) {
+  const fs::path dir = tempDir("size");
+  std::string big = "a:\n";
+  while (big.size() <= railvib::kMaxConfigBytes) big += "  # padding padding padding padding padding padding\n";
+  const fs::path f = writeFile(dir, "big.yaml", big);
+  expectContains(errorOf([&] { Config::load(f.string()); }), {"big.yaml", "bytes, more than"});
+  std::string deep = "a: " + std::string(100, '[') + std::string(100, ']') + "\n";
+  expectContains(errorOf([&] { Config::fromString(deep, "deep.yaml"); }), {"deep.yaml", "nested deeper than"});
+  expectContains(errorOf([&] { Config::fromString("a: 1\n---\nb: 2\n", "two.yaml"); }),
+                 {"more than one YAML document"});
+  expectContains(errorOf([&] { Config::fromString("? [a, b]\n: 1\n", "key.yaml"); }), {"a key must be a plain name"});
+  fs::remove_all(dir);
+}
+
+TEST(ConfigStrict, PathsThatAreNoConfigFileAreRefusedByName) {
+  const fs::path dir = tempDir("paths");
+  expectContains(errorOf([&] { Config::load(dir.string()); }), {dir.string(), "is a directory, not a config file"});
+  expectContains(errorOf([&] { Config::load((dir / "missing.yaml").string()); }), {"missing.yaml", "not found"});
+  expectContains(errorOf([&] { Config::load("/dev/null"); }), {"/dev/null", "not a regular file"});
+  const fs::path inc = writeFile(dir, "inc.yaml", "include: [{a: 1}]\n");
+  expectContains(errorOf([&] { Config::load(inc.string()); }), {"inc.yaml", "include entry", "file name"});
+  fs::remove_all(dir);
+}
+
+TEST(ConfigStrict, OverrideValuesGetTheSameChecks) {
+  const fs::path dir = tempDir("ovr");
+  const fs::path f = writeFile(dir, "s.yaml", "a: 1\n");
+  expectContains(errorOf([&] { Config::load(f.string(), {"a={x: 1, x: 2}"}); }), {"override", "duplicate key"});
+  expectContains(errorOf([&] { Config::load(f.string(), {"a=[unclosed"}); }), {"override", "not valid YAML"});
+  fs::remove_all(dir);
+}
