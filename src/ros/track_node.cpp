@@ -21,7 +21,7 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
                                                     run.convected_track_start ? run.speed_m_s : 0.0);
   status_ = std::make_unique<NodeStatus>(nh, "track", run.duration_s);
   limits_ = loadStreamLimits(config.root());
-  wheel_count_ = static_cast<uint32_t>(vehicle::loadVehicleParams(config.root()).axle_offsets_m.size());
+  wheel_count_ = static_cast<uint32_t>(vehicle::loadVehicleParams(config.root()).axleOffsets().size());
 
   double block_duration_s = 0.05;
   int required_subscribers = 1;
@@ -64,7 +64,7 @@ void TrackNode::consume(const railvib::ContactForces& block) {
   contract.count_field = "wheel_count";
   contract.point_label = "wheel";
   contract.point_count = wheel_count_;
-  contract.point_source = "the vehicle (vehicle.axle_offsets_m)";
+  contract.point_source = "the vehicle (vehicles.<name>.wheels)";
   contract.max_block_samples = limits_.max_block_samples;
   validateBlock(
       contract,

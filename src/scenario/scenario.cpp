@@ -115,7 +115,7 @@ nlohmann::json validateScenario(const Config& config) {
   summary["layouts"] = {{"sleeper_x_m", track.layout.sleeperPositions()},
                         {"sleeper_length_m", track.layout.length_m},
                         {"sleeper_width_m", track.layout.width_m},
-                        {"wheels", vehicle_params.axle_offsets_m.size()},
+                        {"wheels", vehicle_params.axleOffsets().size()},
                         {"surface_points", surface},
                         {"building_points", house_points}};
   return summary;

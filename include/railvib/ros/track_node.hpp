@@ -37,7 +37,7 @@ class TrackNode {
   std::vector<double> pending_;  // soil-load samples not yet published, [sample][sleeper]
   uint64_t next_load_index_ = 0;
   size_t block_samples_ = 100;
-  uint32_t wheel_count_ = 0;  // the vehicle's axles (vehicle.axle_offsets_m)
+  uint32_t wheel_count_ = 0;  // the vehicle's wheels (vehicles.<name>.wheels)
   StreamLimits limits_;
   std::unique_ptr<NodeStatus> status_;
   bool ended_ = false;
