@@ -33,6 +33,9 @@ nlohmann::json validateScenario(const Config& config) {
   const ConfigNode root = config.root();
   const vehicle::PassageParams passage = vehicle::loadPassageParams(root);
   const vehicle::VehicleParams vehicle_params = vehicle::loadVehicleParams(root);
+  // Every vehicle of the library, not only the chosen one: a bad description is refused before
+  // anyone selects it, and its keys are read (so they are not taken for typos).
+  for (const std::string& name : vehicle::vehicleLibrary(root)) vehicle::loadVehicleParams(root, name);
   // (Whether the tram stays on the modelled track is checked by the passage as it runs: tools such
   // as track-bench shorten track.extent on purpose.)
   const track::TrackParams track = track::loadTrackParams(root);

@@ -173,6 +173,10 @@ TEST(ScenarioFuzz, EveryMisspeltKeyIsRefusedWithTheIntendedOne) {
     if (leaf.is_index.back() || inactive(leaf.path)) continue;
     const std::string key = leaf.keys.back();
     const std::string typo = key + key.back();  // one letter repeated: the commonest slip
+    // A vehicle of the library that the scenario does not select may take any name: renaming it is no typo.
+    if (leaf.keys.size() == 2 && leaf.keys[0] == "vehicles" && key != tree["vehicle"]["name"].as<std::string>()) {
+      continue;
+    }
     YAML::Node copy = YAML::Clone(tree);
     YAML::Node parent = at(copy, leaf, leaf.keys.size() - 1);
     if (parent[typo]) continue;  // collides with a real key
@@ -183,7 +187,14 @@ TEST(ScenarioFuzz, EveryMisspeltKeyIsRefusedWithTheIntendedOne) {
     const std::string parent_path = leaf.path.substr(0, leaf.path.size() - key.size());
     const bool suggested = message.find("did you mean " + leaf.path + "?") != std::string::npos ||
                            message.find("is '" + parent_path + typo + "' a misspelling") != std::string::npos;
-    EXPECT_TRUE(suggested) << leaf.path << " misspelt as " << typo << ": " << message;
+    // Or the refusal names the intended key: a required or defaulted key now missing, which a loader's
+    // own check finds first (vehicles.t2000.suspensions[3].y_m = (missing): ...), or a name defined by
+    // the file (a vehicle, a body, a suspension stage) that its references no longer find
+    // (suspensions[0].upper = front_carbody: no body 'front_carbody' ...).
+    const bool named = message.find(leaf.path + " = (missing)") != std::string::npos ||
+                       message.find("= " + key + ":") != std::string::npos ||
+                       message.find("'" + key + "'") != std::string::npos;
+    EXPECT_TRUE(suggested || named) << leaf.path << " misspelt as " << typo << ": " << message;
   }
   EXPECT_GT(cases, 150u);
 }
