@@ -118,11 +118,20 @@ def config_cases():
         ("bad value in the foundation not chosen", ci("track.foundation.winkler.damping_n_s_m=-1"),
          "track.foundation.winkler.damping_n_s_m = -1"),
         ("load rate 0", ci("track.output.load_sample_rate_hz=0"), "track.output.load_sample_rate_hz = 0"),
-        ("carbody without mass", ci("vehicle.carbody.end_mass_kg=0"), "vehicle.carbody.end_mass_kg = 0"),
-        ("axles not increasing", ci("vehicle.axle_offsets_m=[0, 1, 1, 2, 3, 4]"), "vehicle.axle_offsets_m"),
-        ("axle types of the wrong count", ci("vehicle.axle_types=[motor, motor]"), "vehicle.axle_types"),
-        ("wheel radius 3 m", ci("vehicle.motor_wheel.radius_m=3"), "vehicle.motor_wheel.radius_m = 3"),
-        ("Hertz constant 1e300", ci("vehicle.contact.hertz_constant_n_m1_5=1e300"), "hertz_constant_n_m1_5"),
+        ("carbody without mass", ci("vehicles.t2000.bodies.front_carbody.mass_kg=0"),
+         "vehicles.t2000.bodies.front_carbody.mass_kg = 0"),
+        ("wheel on no body", ci("vehicles.t2000.wheels=[{name: axle0, body: ghost, type: motor, radius_m: 0.34}]"),
+         "vehicles.t2000.wheels[0].body = ghost"),
+        ("wheel of no known type", ci("vehicles.t2000.wheels=[{name: axle0, body: axle0_tread, type: steam, radius_m: 0.34}]"),
+         "vehicles.t2000.wheels[0].type = steam"),
+        ("wheel radius 3 m", ci("vehicles.t2000.wheels=[{name: axle0, body: axle0_tread, type: motor, radius_m: 3.0}, "
+                                 "{name: axle1, body: axle1_trailer_wheel, type: trailer, radius_m: 0.34}, "
+                                 "{name: axle2, body: axle2_tread, type: motor, radius_m: 0.34}, "
+                                 "{name: axle3, body: axle3_tread, type: motor, radius_m: 0.34}, "
+                                 "{name: axle4, body: axle4_trailer_wheel, type: trailer, radius_m: 0.34}, "
+                                 "{name: axle5, body: axle5_tread, type: motor, radius_m: 0.34}]"),
+         "vehicles.t2000.wheels[0].radius_m = 3"),
+        ("Hertz constant 1e300", ci("vehicles.t2000.contact.hertz_constant_n_m1_5=1e300"), "hertz_constant_n_m1_5"),
         ("defect 0.5 m high", ci("unevenness.defect.height_m=0.5"), "unevenness.defect.height_m = 0.5"),
         ("defect off the track", ci("unevenness.defect.position_m=200"), "unevenness.defect.position_m = 200"),
         ("incompressible soil", ci("soil.half_space.poisson_ratio=0.5"), "soil.half_space.poisson_ratio = 0.5"),

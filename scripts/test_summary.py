@@ -17,14 +17,15 @@ import sys
 import xml.etree.ElementTree as ET
 
 # One result file per suite of the normal build (CMakeLists.txt registers each).
-UNIT_DOMAINS = ["common", "io", "signal", "track", "vehicle", "soil", "building", "coupling", "scenario"]
+UNIT_DOMAINS = ["common", "io", "signal", "track", "vehicle", "soil", "building", "coupling", "validation",
+                "scenario"]
 EXPECTED_SUITES = ([f"gtest-{d}" for d in UNIT_DOMAINS]
                    + ["rostest-track", "rostest-haren", "scenario-checks", "node-fuzz", "robustness-cases",
                       "tool-commands", "script-tests"])
 # The sanitizer build (./railvib sanitize): the unit tests and the node-level fuzz.
 # (test_coupling's Craig-Bampton reductions are left out: minutes under the sanitizers; the
 # soil and building tests it builds on are in.)
-SANITIZER_SUITES = [f"san-gtest-{d}" for d in UNIT_DOMAINS if d != "coupling"] + ["san-node-fuzz"]
+SANITIZER_SUITES = [f"san-gtest-{d}" for d in UNIT_DOMAINS if d not in ("coupling", "validation")] + ["san-node-fuzz"]
 
 
 def summarize(dirs, failed_logs, expected):

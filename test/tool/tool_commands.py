@@ -132,6 +132,12 @@ class Cases:
         check(abs(v["gazetas_1991_normalised"] - 4.54) < 1e-9 and abs(v["pais_kausel_1988_normalised"] - 4.7) < 1e-9, v)
 
     # ------------------------------------------------------------------ building
+    def validate(self):
+        # The quick model claims on the CI scenario: every claim has a verdict, the ones that agreed still agree.
+        s = self.run("validate", "--config", CI, "--quick")
+        check(len(s["claims"]) > 0 and s["agrees"] > 0 and s["regressions"] == [], s)
+        check(s["agrees"] + s["differs"] + s["pending"] == len(s["claims"]), s)
+
     def building_modes(self):
         s = self.run("building-modes", "--config", CI, "--fmax", 30)
         f = s["modal_frequencies_hz"] if "modal_frequencies_hz" in s else [m["frequency_hz"] for m in s["modes"]]
@@ -191,7 +197,7 @@ COMMANDS = {
     "building-tf": "building_tf", "building-response": "building_response",
     "building-footprint": "building_footprint", "metrics": "metrics", "din-check": "din_check",
     "decimator-check": "decimator_check",
-    "ssi-bench": "ssi_bench",
+    "ssi-bench": "ssi_bench", "validate": "validate",
 }
 
 
