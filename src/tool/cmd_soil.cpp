@@ -445,14 +445,8 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("pml-outer-dashpots", "reflection*: 1 = dashpots at the PML's outer faces, 0 = free faces", "1");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
   addConfigOptions(p);  // reflection-layered: soil profile, mesh resolution, damping and layer from the config
-  std::vector<std::string> rest = args;
   std::string which;
-  if (!rest.empty() && rest[0].rfind("--", 0) != 0) {
-    which = rest[0];
-    rest.erase(rest.begin());
-  }
-  if (!p.parse(rest)) return 0;
-  if (which.empty()) which = p.get("case");
+  if (!parseWithCase(p, args, which)) return 0;
   const BenchArgs bench{p, benchPrecisions(p.get("precision"))};
   for (const BenchCase& c : kBenchCases) {
     if (which != c.name) continue;

@@ -368,14 +368,8 @@ int ssiBench(const std::vector<std::string>& args) {
   p.option("threads", "OpenMP threads (0 = all)", "0");
   p.option("csv", "write the time series to this CSV (block: prefix)", "");
   addConfigOptions(p);  // kinematic: soil profile, mesh resolution, damping, boundary, box
-  std::vector<std::string> rest = args;
   std::string which;
-  if (!rest.empty() && rest[0].rfind("--", 0) != 0) {
-    which = rest[0];
-    rest.erase(rest.begin());
-  }
-  if (!p.parse(rest)) return 0;
-  if (which.empty()) which = p.get("case");
+  if (!parseWithCase(p, args, which)) return 0;
   json out;
   if (which == "footing-static") {
     out = footingStatic(p);

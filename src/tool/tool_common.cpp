@@ -20,6 +20,18 @@ void addConfigOptions(ArgParser& parser) {
   parser.option("set", "override a config value, key.path=value (repeatable)");
 }
 
+bool parseWithCase(ArgParser& parser, const std::vector<std::string>& args, std::string& which) {
+  std::vector<std::string> rest = args;
+  which.clear();
+  if (!rest.empty() && rest[0].rfind("--", 0) != 0) {
+    which = rest[0];
+    rest.erase(rest.begin());
+  }
+  if (!parser.parse(rest)) return false;
+  if (which.empty()) which = parser.get("case");
+  return true;
+}
+
 Config loadConfig(const ArgParser& parser, const std::vector<std::string>& extra_overrides) {
   std::vector<std::string> overrides = parser.getAll("set");
   overrides.insert(overrides.end(), extra_overrides.begin(), extra_overrides.end());

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "railvib/common/args.hpp"
 #include "railvib/common/config.hpp"
@@ -15,6 +16,9 @@ std::string defaultConfigPath();
 
 /// Declare the options every config-driven command takes: --config FILE and --set key=value.
 void addConfigOptions(ArgParser& parser);
+/// Parses a command whose first argument may name its case (`soil-bench lamb ...`) instead of its
+/// --case option; `which` gets the case. Returns false after --help (nothing to run).
+bool parseWithCase(ArgParser& parser, const std::vector<std::string>& args, std::string& which);
 
 /// Load the configuration named by --config with the --set overrides, then
 /// `extra_overrides` (a command's own options, e.g. --foundation) on top, and validate the whole
