@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "railvib/common/force_inline.hpp"
 #include "railvib/soil/boundary.hpp"
 
 namespace railvib::soil {
@@ -202,8 +203,8 @@ struct PlaneSlot {
 // l (slot p = u + 2 v over the two other directions in order), component c; near/far[(j * 3 + i) * 4 + p]:
 // the nodes at the near / far end along j of slot p, split force f^(j) component i. Vectorised over the row.
 template <class Real>
-inline __attribute__((always_inline)) void rowForcesBody(const Real* const* src, Real* const* near, Real* const* far,
-                                                         size_t ni, Real lam, Real mu, Real wx, Real wy, Real wz) {
+RAILVIB_FORCE_INLINE void rowForcesBody(const Real* const* src, Real* const* near, Real* const* far, size_t ni,
+                                        Real lam, Real mu, Real wx, Real wy, Real wz) {
   // Bilinear weights of the two nodes along a direction at its two Gauss points -/+ 1/sqrt(3).
   const Real gp = Real(0.5 + 0.5 / std::sqrt(3.0)), gm = Real(0.5 - 0.5 / std::sqrt(3.0));
   const Real wgt[2][2] = {{gp, gm}, {gm, gp}};  // wgt[node][gauss point]
@@ -309,7 +310,7 @@ struct RowGradientArgs {
 };
 
 template <class Real, bool Stretch>
-inline __attribute__((always_inline)) void rowGradientsBody(const RowGradientArgs<Real>& a) {
+RAILVIB_FORCE_INLINE void rowGradientsBody(const RowGradientArgs<Real>& a) {
   for (int l = 0; l < 3; ++l) {
     if (!a.has[l]) continue;
     const size_t n = l == 0 ? a.n - 1 : a.n;
@@ -377,7 +378,7 @@ struct RowNodalArgs {
 };
 
 template <class Real, bool Stretch>
-inline __attribute__((always_inline)) void rowNodalBody(const RowNodalArgs<Real>& a) {
+RAILVIB_FORCE_INLINE void rowNodalBody(const RowNodalArgs<Real>& a) {
   for (int j = 0; j < 3; ++j) {
     if (!a.active[j]) {
       for (int i = 0; i < 3; ++i) {

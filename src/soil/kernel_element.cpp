@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "railvib/common/force_inline.hpp"
 #include "railvib/soil/kernel.hpp"
 
 namespace railvib::soil {
@@ -26,9 +27,9 @@ constexpr size_t kMinParallelElements = 20000;
 // f -= K_e w, vectorised over the elements of a row. The element outputs go to a small
 // buffer, then are added to the nodes corner by corner (no write conflict inside a loop).
 template <class Real>
-inline __attribute__((always_inline)) void levelKernelBody(const Real* __restrict ke, const Real* const* w,
-                                                           Real* const* f, size_t i_begin, size_t i_end, size_t sx,
-                                                           size_t sxy, size_t k, size_t j_begin, size_t j_end) {
+RAILVIB_FORCE_INLINE void levelKernelBody(const Real* __restrict ke, const Real* const* w, Real* const* f,
+                                          size_t i_begin, size_t i_end, size_t sx, size_t sxy, size_t k, size_t j_begin,
+                                          size_t j_end) {
   alignas(64) Real out[24][kChunk];
   size_t off[8];
   for (size_t c = 0; c < 8; ++c) off[c] = (c & 1) + ((c >> 1) & 1) * sx + ((c >> 2) & 1) * sxy;

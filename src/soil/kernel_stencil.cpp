@@ -35,6 +35,7 @@
 #include <utility>
 #include <vector>
 
+#include "railvib/common/force_inline.hpp"
 #include "railvib/soil/kernel.hpp"
 
 namespace railvib::soil {
@@ -109,18 +110,14 @@ struct Lanes {
   static constexpr size_t kLanes = kBytes / sizeof(Real);
   static constexpr size_t kBlock = kHalves * kLanes;
   using OneVector = Lanes<Real, kBytes, 1>;
-  static inline __attribute__((always_inline)) void load(Vec& v, const Real* p) {
-    v = *reinterpret_cast<const UnalignedVec*>(p);
-  }
-  static inline __attribute__((always_inline)) void store(Real* p, const Vec& v) {
-    *reinterpret_cast<UnalignedVec*>(p) = v;
-  }
+  static RAILVIB_FORCE_INLINE void load(Vec& v, const Real* p) { v = *reinterpret_cast<const UnalignedVec*>(p); }
+  static RAILVIB_FORCE_INLINE void store(Real* p, const Vec& v) { *reinterpret_cast<UnalignedVec*>(p) = v; }
 };
 
 // The terms of one neighbour o: acc[c][o & 1] += T[o][c][d] w_d(n + o) for the pattern's (c, d).
 // Two partial sums per component (even / odd o) halve the FMA dependency chains.
 template <Pattern P, int O, class Acc, class Real>
-inline __attribute__((always_inline)) void neighbourTerms(Acc (&acc)[3][2], const Acc (&v)[3], const Real* t) {
+RAILVIB_FORCE_INLINE void neighbourTerms(Acc (&acc)[3][2], const Acc (&v)[3], const Real* t) {
   constexpr int p = O & 1;
   if constexpr (inPattern(P, O, 0, 0)) acc[0][p] += t[O * 9 + 0] * v[0];
   if constexpr (inPattern(P, O, 0, 1)) acc[0][p] += t[O * 9 + 1] * v[1];
@@ -135,8 +132,7 @@ inline __attribute__((always_inline)) void neighbourTerms(Acc (&acc)[3][2], cons
 
 // Neighbour O of the native vector of nodes from m - off[O].
 template <class L, Pattern P, size_t O, class Real>
-inline __attribute__((always_inline)) void vectorNeighbour(typename L::Vec (&acc)[3][2], const Real* t,
-                                                           const Real* const* w, size_t m) {
+RAILVIB_FORCE_INLINE void vectorNeighbour(typename L::Vec (&acc)[3][2], const Real* t, const Real* const* w, size_t m) {
   typename L::Vec v[3];
   L::load(v[0], w[0] + m);
   L::load(v[1], w[1] + m);
@@ -146,19 +142,17 @@ inline __attribute__((always_inline)) void vectorNeighbour(typename L::Vec (&acc
 
 // Neighbour O of the block of nodes from n: each half (native vector) in turn.
 template <class L, Pattern P, size_t O, class Real, size_t... H>
-inline __attribute__((always_inline)) void contiguousNeighbour(typename L::Vec (&acc)[sizeof...(H)][3][2],
-                                                               const Real* t, const ptrdiff_t* off,
-                                                               const Real* const* w, size_t n,
-                                                               std::index_sequence<H...>) {
+RAILVIB_FORCE_INLINE void contiguousNeighbour(typename L::Vec (&acc)[sizeof...(H)][3][2], const Real* t,
+                                              const ptrdiff_t* off, const Real* const* w, size_t n,
+                                              std::index_sequence<H...>) {
   const size_t m = n + static_cast<size_t>(off[O]);
   (vectorNeighbour<L, P, O>(acc[H], t, w, m + H * L::kLanes), ...);
 }
 
 // One block of L::kBlock consecutive nodes from n (lanes >= len are computed but not stored).
 template <class L, Pattern P, class Real, size_t... O>
-inline __attribute__((always_inline)) void contiguousBlock(const Real* __restrict t, const ptrdiff_t* off,
-                                                           const Real* const* w, Real* const* f, size_t n, size_t len,
-                                                           std::index_sequence<O...>) {
+RAILVIB_FORCE_INLINE void contiguousBlock(const Real* __restrict t, const ptrdiff_t* off, const Real* const* w,
+                                          Real* const* f, size_t n, size_t len, std::index_sequence<O...>) {
   using Vec = typename L::Vec;
   constexpr size_t kHalves = L::kBlock / L::kLanes;
   Vec acc[kHalves][3][2] = {};
@@ -180,9 +174,9 @@ inline __attribute__((always_inline)) void contiguousBlock(const Real* __restric
 
 // Neighbour O of one node n.
 template <class Real, Pattern P, size_t O>
-inline __attribute__((always_inline)) void nodeNeighbour(Real (&acc)[3][2], const Real* t, const ptrdiff_t* off,
-                                                         const Real* __restrict w0, const Real* __restrict w1,
-                                                         const Real* __restrict w2, size_t n) {
+RAILVIB_FORCE_INLINE void nodeNeighbour(Real (&acc)[3][2], const Real* t, const ptrdiff_t* off,
+                                        const Real* __restrict w0, const Real* __restrict w1, const Real* __restrict w2,
+                                        size_t n) {
   const size_t m = n + static_cast<size_t>(off[O]);
   const Real v[3] = {w0[m], w1[m], w2[m]};
   neighbourTerms<P, static_cast<int>(O)>(acc, v, t);
@@ -190,9 +184,9 @@ inline __attribute__((always_inline)) void nodeNeighbour(Real (&acc)[3][2], cons
 
 // Nodes first + s stride, s < count, one lane per node (gathers for stride > 1).
 template <class Real, Pattern P, size_t... O>
-inline __attribute__((always_inline)) void stridedLine(const Real* __restrict t, const ptrdiff_t* off,
-                                                       const Real* const* w, Real* const* f, size_t first,
-                                                       ptrdiff_t stride, size_t count, std::index_sequence<O...>) {
+RAILVIB_FORCE_INLINE void stridedLine(const Real* __restrict t, const ptrdiff_t* off, const Real* const* w,
+                                      Real* const* f, size_t first, ptrdiff_t stride, size_t count,
+                                      std::index_sequence<O...>) {
   const Real* __restrict w0 = w[0];
   const Real* __restrict w1 = w[1];
   const Real* __restrict w2 = w[2];
@@ -211,8 +205,8 @@ inline __attribute__((always_inline)) void stridedLine(const Real* __restrict t,
 }
 
 template <class L, Pattern P, class Real>
-inline __attribute__((always_inline)) void runLine(const Line& line, const Tables<Real>& tab, const Real* const* w,
-                                                   Real* const* f, size_t node_count) {
+RAILVIB_FORCE_INLINE void runLine(const Line& line, const Tables<Real>& tab, const Real* const* w, Real* const* f,
+                                  size_t node_count) {
   const Real* t = tab.coef + static_cast<size_t>(line.table) * kTableSize;
   const ptrdiff_t* off = tab.offsets + static_cast<size_t>(line.table) * kOffsets;
   constexpr auto seq = std::make_index_sequence<kOffsets>{};
@@ -241,8 +235,8 @@ inline __attribute__((always_inline)) void runLine(const Line& line, const Table
 }
 
 template <class L, class Real>
-inline __attribute__((always_inline)) void runLinesBody(const Line* lines, size_t n_lines, const Tables<Real>& tab,
-                                                        const Real* const* w, Real* const* f, size_t node_count) {
+RAILVIB_FORCE_INLINE void runLinesBody(const Line* lines, size_t n_lines, const Tables<Real>& tab, const Real* const* w,
+                                       Real* const* f, size_t node_count) {
   for (size_t q = 0; q < n_lines; ++q) {
     const Line& line = lines[q];
     switch (line.pattern) {

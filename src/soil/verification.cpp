@@ -9,6 +9,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "railvib/common/force_inline.hpp"
+
 namespace railvib::soil {
 
 namespace {
@@ -357,7 +359,7 @@ namespace {
 // kChains independent chains acc = acc * a + b of one native vector each: enough to fill the FMA pipes
 // (2 pipes x 4 cycles latency on current cores). Returns the lane sum, so that nothing is optimised away.
 template <class Real, size_t kBytes, int kChains>
-inline __attribute__((always_inline)) double fmaChains(long iterations) {
+RAILVIB_FORCE_INLINE double fmaChains(long iterations) {
   typedef Real Vec __attribute__((vector_size(kBytes)));
   Vec acc[kChains];
   for (int c = 0; c < kChains; ++c) acc[c] = Vec{} + static_cast<Real>(1e-3 * c);
