@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 
 namespace railvib {
 
@@ -59,6 +60,36 @@ std::vector<double> TrackLayout::sleeperPositions() const {
   return x;
 }
 
+Range vehicleBodyPositionRange() { return Range::closed(-100.0, 200.0); }
+
+PassageSpan loadPassageSpan(const ConfigNode& root) {
+  const ConfigNode s = root.section("simulation");
+  PassageSpan span;
+  span.speed_m_s = s.number("speed_m_s", Range::open(0.0, 100.0));
+  span.duration_s = s.number("duration_s", Range::open(0.0, 600.0));
+  span.front_axle_start_m = s.number("front_axle_start_m", Range::open(-1.0e5, 1.0e5));
+  return span;
+}
+
+double rearAxleOffsetM(const ConfigNode& root) {
+  const ConfigNode library = root.section("vehicles");
+  const std::string name = root.section("vehicle").text("name");
+  if (!library.has(name)) root.section("vehicle").fail("name", "no vehicle '" + name + "' in the library `vehicles`");
+  const ConfigNode vehicle = library.section(name);
+  const std::vector<ConfigNode> wheels = vehicle.sectionList("wheels");
+  if (wheels.empty()) vehicle.fail("wheels", "a vehicle needs at least one wheel");
+  const std::string body = wheels.back().text("body");
+  const ConfigNode bodies = vehicle.section("bodies");
+  if (!bodies.has(body)) wheels.back().fail("body", "no body " + bodies.childPath(body));
+  const double x = bodies.section(body).number("x_m", vehicleBodyPositionRange());
+  if (x < 0.0) {
+    std::ostringstream why;
+    why << "the rear wheel's body lies ahead of the front axle (x_m = " << x << " m)";
+    wheels.back().fail("body", why.str());
+  }
+  return x;
+}
+
 TrackLayout loadTrackLayout(const ConfigNode& root) {
   const ConfigNode track = root.section("track");
   const ConfigNode sleeper = track.section("sleeper");
@@ -69,9 +100,30 @@ TrackLayout loadTrackLayout(const ConfigNode& root) {
   layout.length_m = sleeper.number("length_m", Range::open(0.0, 10.0));
   layout.width_m = sleeper.number("width_m", Range::open(0.0, 10.0));
   const ConfigNode extent = track.section("extent");
-  layout.x_min_m = extent.number("x_min_m", Range::open(-1.0e5, 1.0e5));
-  layout.x_max_m = extent.number("x_max_m", Range::open(-1.0e5, 1.0e5));
-  if (!(layout.x_max_m > layout.x_min_m)) extent.fail("x_max_m", "must be greater than x_min_m");
+  const bool automatic = extent.choice("mode", {"fixed", "auto"}) == "auto";
+  // Required by the track model and by an automatic extent (a missing section names a near-miss key:
+  // "is 'track.endss' a misspelling of it?"); layouts that only place sleepers may leave it out.
+  layout.end_layer_m = track.has("ends") || automatic
+                           ? track.section("ends").number("absorbing_length_m", Range{0.0, 1.0e4, false, true})
+                           : 0.0;
+  if (!automatic) {
+    layout.x_min_m = extent.number("x_min_m", Range::open(-1.0e5, 1.0e5));
+    layout.x_max_m = extent.number("x_max_m", Range::open(-1.0e5, 1.0e5));
+    // Kept for mode auto (an override switching the mode need not delete it): still a valid margin.
+    if (extent.has("margin_m")) extent.number("margin_m", Range::closed(0.0, 1.0e3));
+    if (!(layout.x_max_m > layout.x_min_m)) extent.fail("x_max_m", "must be greater than x_min_m");
+    return layout;
+  }
+  // The vehicle stays on ordinary track (outside the end layers) for the whole run, by construction.
+  for (const char* key : {"x_min_m", "x_max_m"}) {
+    if (extent.has(key)) extent.fail(key, "mode: auto computes the extent from the run (give mode: fixed to set it)");
+  }
+  layout.extent_mode = TrackExtentMode::Auto;
+  layout.auto_margin_m = extent.number("margin_m", Range::closed(0.0, 1.0e3));
+  const PassageSpan span = loadPassageSpan(root);
+  const double pad = layout.auto_margin_m + layout.end_layer_m;
+  layout.x_min_m = span.front_axle_start_m - rearAxleOffsetM(root) - pad;
+  layout.x_max_m = span.frontAxleEndM() + pad;
   return layout;
 }
 

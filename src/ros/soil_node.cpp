@@ -79,9 +79,7 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
     }
     model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m, load_sample_rate_hz_, bodies_);
     ROS_INFO_STREAM("soil: " << model_->summary().dump());
-    if (!model_->droppedSleepers().empty()) {
-      ROS_WARN("soil: %zu sleeper(s) outside the mesh: their loads are ignored", model_->droppedSleepers().size());
-    }
+    if (!model_->droppedSleepers().empty()) ROS_WARN_STREAM("soil: " << model_->droppedLoadsNote());
     railvib::PointLayout points;
     points.header.frame_id = names::kTrackFrame;
     for (const auto& r : model_->receivers()) {

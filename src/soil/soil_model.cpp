@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace railvib::soil {
@@ -92,6 +93,17 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   }
   dropped_ = outside;
   dropped_in_zone_ = in_zone;
+  loaded_x_min_m_ = lx0;
+  loaded_x_max_m_ = lx1;
+  dropped_nearest_receiver_m_ = std::numeric_limits<double>::infinity();
+  for (size_t s : dropped_) {
+    for (const ReceiverSpec& r : params_.receivers) {
+      // Plan distance from the receiver to the footprint rectangle.
+      const double dx = std::max(0.0, std::abs(r.x_m - sleeper_x_[s]) - hw);
+      const double dy = std::max(0.0, std::abs(r.y_m) - hl);
+      dropped_nearest_receiver_m_ = std::min(dropped_nearest_receiver_m_, std::hypot(dx, dy));
+    }
+  }
   channel_values_.assign(sleeper_x_.size() - dropped_.size(), 0.0);
   load_eval_.assign(sleeper_x_.size(), 0.0);
   loads_ = std::make_unique<signal::StreamInterpolator>(load_sample_rate_hz, sleeper_x_.size(), 0.0);
@@ -171,8 +183,26 @@ nlohmann::json SoilModel::summary() const {
           {"sleepers_loaded", sleeper_x_.size() - dropped_.size()},
           {"sleepers_dropped", dropped_.size()},
           {"sleepers_dropped_in_boundary_zone", dropped_in_zone_},
+          {"loaded_x_m", {loaded_x_min_m_, loaded_x_max_m_}},
+          {"dropped_nearest_receiver_m", dropped_.empty() || params_.receivers.empty()
+                                             ? nlohmann::json(nullptr)
+                                             : nlohmann::json(dropped_nearest_receiver_m_)},
           {"receivers", params_.receivers.size()},
           {"rigid_bodies", bodiesSummary(s)}};
+}
+
+std::string SoilModel::droppedLoadsNote() const {
+  if (dropped_.empty()) return "";
+  std::ostringstream note;
+  note << dropped_.size() << " of " << sleeper_x_.size() << " sleepers lie outside the loaded region x ["
+       << loaded_x_min_m_ << ", " << loaded_x_max_m_ << "] m";
+  if (dropped_in_zone_ > 0) {
+    note << " (" << dropped_in_zone_ << " of them in the " << solver_->boundary().zoneThicknessM() << " m "
+         << boundaryMethodName(solver_->boundary().method()) << " zone)";
+  }
+  note << ": their loads are not applied";
+  if (!params_.receivers.empty()) note << "; the nearest is " << dropped_nearest_receiver_m_ << " m from a receiver";
+  return note.str();
 }
 
 void SoilModel::pushLoads(uint64_t first_index, const double* forces_n, size_t frames) {

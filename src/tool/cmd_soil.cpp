@@ -549,6 +549,7 @@ int soilRun(const std::vector<std::string>& args) {
     std::cerr << "  layer " << l["top_m"] << "-" << l["bottom_m"] << " m: " << l["levels"] << " levels of " << l["dz_m"]
               << " m, Vs " << l["vs_m_s"] << " m/s, resolved up to " << l["resolved_hz"] << " Hz\n";
   }
+  if (!model.droppedSleepers().empty()) std::cerr << "soil: " << model.droppedLoadsNote() << "\n";
   std::vector<double> frame;
   frame.reserve(loads.rows.size() * ns);
   for (const auto& r : loads.rows) frame.insert(frame.end(), r.begin() + 1, r.end());

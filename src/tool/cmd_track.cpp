@@ -328,6 +328,7 @@ int runTrackBench(const std::vector<std::string>& argv) {
   if (!args.parse(argv)) return 0;
   const double length = positiveOption(args, "length");
   std::vector<std::string> overrides = foundationOverride(args);
+  overrides.push_back("track.extent.mode=fixed");
   overrides.push_back("track.extent.x_min_m=" + fmt(-0.5 * length));
   overrides.push_back("track.extent.x_max_m=" + fmt(0.5 * length));
   const Config cfg = loadConfig(args, overrides);

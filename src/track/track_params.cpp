@@ -67,9 +67,8 @@ TrackParams loadTrackParams(const ConfigNode& root) {
                                       : FoundationModel::Rigid;
 
   {
-    // Required (a missing one names a near-miss key: "is 'track.endss' a misspelling of it?").
     const ConfigNode ends = track.section("ends");
-    p.ends.absorbing_length_m = ends.number("absorbing_length_m", Range{0.0, 1.0e4, false, true});
+    p.ends.absorbing_length_m = p.layout.end_layer_m;  // read with the extent (loadTrackLayout)
     p.ends.max_damping_rate_1_s = ends.number("max_damping_rate_1_s", Range{0.0, 1.0e6, false, true});
   }
 

@@ -79,7 +79,7 @@ void readBodies(const ConfigNode& v, VehicleParams& p) {
     BodySpec s;
     s.name = name;
     s.kind = bodyKind(b);
-    s.x_m = b.number("x_m", Range::closed(-100.0, 200.0));
+    s.x_m = b.number("x_m", vehicleBodyPositionRange());
     s.y_m = b.number("y_m", Range::closed(0.0, 5.0), 0.0);
     s.mass_kg = b.number("mass_kg", Range::positive());
     s.roll_inertia_kg_m2 = b.number("roll_inertia_kg_m2", Range::nonNegative(), 0.0);
@@ -126,7 +126,7 @@ void readSuspensions(const ConfigNode& v, VehicleParams& p) {
     s.upper_body = bodyRef(e, "upper", e.text("upper"), p);
     s.lower_body = bodyRef(e, "lower", e.text("lower"), p);
     if (s.upper_body == s.lower_body) e.fail("lower", "an element joins two different bodies");
-    s.x_m = e.number("x_m", Range::closed(-100.0, 200.0));
+    s.x_m = e.number("x_m", vehicleBodyPositionRange());
     s.y_m = e.number("y_m", Range::closed(0.0, 5.0), 0.0);
     for (int b : {s.upper_body, s.lower_body}) {
       const BodySpec& body = p.bodies[static_cast<size_t>(b)];
@@ -153,7 +153,7 @@ void readJoints(const ConfigNode& v, VehicleParams& p) {
     s.body_b = bodyRef(j, "bodies", names[1], p);
     s.name = j.text("name", names[0] + "/" + names[1]);
     if (s.body_a == s.body_b) j.fail("bodies", "a pin joins two different bodies");
-    s.x_m = j.number("x_m", Range::closed(-100.0, 200.0));
+    s.x_m = j.number("x_m", vehicleBodyPositionRange());
     s.y_m = j.number("y_m", Range::closed(0.0, 5.0), 0.0);
     for (int b : {s.body_a, s.body_b}) {
       const BodySpec& body = p.bodies[static_cast<size_t>(b)];
@@ -340,13 +340,14 @@ PassageParams loadPassageParams(const ConfigNode& root) {
   PassageParams p;
   p.vehicle_track = s.choice("vehicle_track", {"flexible", "rigid"}, "flexible") == "rigid" ? VehicleTrack::Rigid
                                                                                             : VehicleTrack::Flexible;
-  p.speed_m_s = s.number("speed_m_s", Range::open(0.0, 100.0));
-  p.duration_s = s.number("duration_s", Range::open(0.0, 600.0));
+  const PassageSpan span = loadPassageSpan(root);
+  p.speed_m_s = span.speed_m_s;
+  p.duration_s = span.duration_s;
   // Newmark beta=1/4 is unconditionally stable; accuracy limits dt: the
   // stiffest vehicle mode (tread on the Hertz spring, ~600 Hz) needs >= 20
   // steps per period and the defect (~7 ms at 30 km/h) >= 100 steps.
   p.time_step_s = s.number("time_step_s", Range::closed(1.0e-7, 5.0e-5));
-  p.front_axle_start_m = s.number("front_axle_start_m", Range::open(-1.0e5, 1.0e5));
+  p.front_axle_start_m = span.front_axle_start_m;
   p.contact_tolerance = s.number("contact_tolerance", Range::closed(1e-14, 1e-4), p.contact_tolerance);
   p.convected_track_start = s.flag("convected_track_start", false);
   return p;

@@ -3,6 +3,7 @@
 //   SiteLayout         rails, ground sensors and where the house stands (`site`)
 //   BuildingPlacement  the house's plan outline and its frame's origin
 //   TrackLayout        the sleepers and the modelled extent of the track (`track`)
+//   PassageSpan        where and how long the vehicle runs (`simulation`)
 //
 // Frame `track`: x along the track (direction of travel), y lateral towards
 // the building, z up; origin on the track axis at the defect, at the top of
@@ -47,6 +48,23 @@ struct SiteLayout {
   std::optional<BuildingPlacement> building;
 };
 
+/// The run of the vehicle: the only reader of simulation.speed_m_s, duration_s, front_axle_start_m.
+struct PassageSpan {
+  double speed_m_s = 30.0 / 3.6;
+  double duration_s = 5.0;
+  /// Front axle's position along the track at t = 0 (m, frame track).
+  double front_axle_start_m = -11.666666666666666;
+  /// Front axle's position at the end of the run.
+  double frontAxleEndM() const { return front_axle_start_m + speed_m_s * duration_s; }
+};
+
+/// Positions of a vehicle's bodies behind its front axle (vehicles.<name>.bodies.<body>.x_m): one range
+/// for the vehicle loader and for rearAxleOffsetM.
+Range vehicleBodyPositionRange();
+
+/// How the track's extent is set (track.extent.mode).
+enum class TrackExtentMode { Fixed, Auto };
+
 /// The sleepers (where the track hands its loads to the soil) and the modelled track.
 struct TrackLayout {
   /// Sleepers at x = offset_m + k spacing_m inside [x_min_m, x_max_m].
@@ -54,6 +72,12 @@ struct TrackLayout {
   double offset_m = 0.0;
   double x_min_m = -50.0;
   double x_max_m = 50.0;
+  /// fixed: x_min_m and x_max_m as given; auto: the whole vehicle for the whole run (from the rear
+  /// axle at t = 0 to the front axle at the end) plus auto_margin_m and the end layer at each end.
+  TrackExtentMode extent_mode = TrackExtentMode::Fixed;
+  double auto_margin_m = 0.0;
+  /// Absorbing end layer at each end (track.ends.absorbing_length_m), inside [x_min_m, x_max_m].
+  double end_layer_m = 12.0;
   /// Footprint of a sleeper on the soil (length across the track, width along it).
   double length_m = 2.6;
   double width_m = 0.25;
@@ -72,7 +96,15 @@ SiteLayout loadSiteLayout(const ConfigNode& root);
 /// The house's placement (as in loadSiteLayout); without a `site` section, frame `building` at the
 /// origin of frame `track` (building-only scenarios). Requires `building`.
 BuildingPlacement loadBuildingPlacement(const ConfigNode& root);
-/// Read track.sleeper (spacing_m, offset_m, length_m, width_m) and track.extent. Throws ConfigError.
+/// Read track.sleeper (spacing_m, offset_m, length_m, width_m), track.extent and
+/// track.ends.absorbing_length_m; with extent mode auto, also the passage (loadPassageSpan) and the
+/// selected vehicle's rear axle (rearAxleOffsetM). Throws ConfigError.
 TrackLayout loadTrackLayout(const ConfigNode& root);
+/// Read simulation.speed_m_s, duration_s and front_axle_start_m. Throws ConfigError.
+PassageSpan loadPassageSpan(const ConfigNode& root);
+/// Offset of the selected vehicle's rear-most wheel behind its front axle (m): the body of the last
+/// wheel of vehicles.<vehicle.name>.wheels (wheels are listed front to rear; the vehicle loader checks
+/// the order and everything else). Throws ConfigError.
+double rearAxleOffsetM(const ConfigNode& root);
 
 }  // namespace railvib

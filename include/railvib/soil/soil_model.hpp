@@ -83,6 +83,9 @@ class SoilModel {
   size_t sleeperCount() const { return sleeper_x_.size(); }
   /// Sleepers whose load is ignored (outside the mesh or in a PML zone, loads_outside_mesh = drop).
   const std::vector<size_t>& droppedSleepers() const { return dropped_; }
+  /// A sentence for the log when loads are dropped ("" when none): how many, where the loaded region
+  /// ends, how many lie in a boundary zone, and how far the nearest dropped footprint is from a receiver.
+  std::string droppedLoadsNote() const;
   const std::vector<ReceiverSpec>& receivers() const { return params_.receivers; }
   /// Mesh, time step, memory and per-layer resolution (printed by the tool).
   nlohmann::json summary() const;
@@ -121,6 +124,8 @@ class SoilModel {
   std::vector<double> sleeper_x_;
   std::vector<size_t> dropped_;
   size_t dropped_in_zone_ = 0;  // of those, inside the box but in a boundary zone that takes no loads (PML)
+  double loaded_x_min_m_ = 0.0, loaded_x_max_m_ = 0.0;  // where footprints are loaded (box less such a zone)
+  double dropped_nearest_receiver_m_ = 0.0;             // plan distance, dropped footprint to nearest receiver
   std::unique_ptr<Solver> solver_;
   std::unique_ptr<signal::StreamInterpolator> loads_;
   SampleIndexTracker load_tracker_{"soil_loads"};

@@ -148,7 +148,7 @@ TEST(TrackLayout, SleeperRuleHoldsTheExtentEnds) {
   // exactly on a sleeper included despite rounding.
   const Config c = Config::fromString(
       "track: {sleeper: {spacing_m: 0.72, offset_m: 0.1, length_m: 2.6, width_m: 0.25}, "
-      "extent: {x_min_m: -1.0, x_max_m: 1.54}}\n");
+      "extent: {mode: fixed, x_min_m: -1.0, x_max_m: 1.54}}\n");
   const railvib::TrackLayout t = railvib::loadTrackLayout(c.root());
   const std::vector<double> x = t.sleeperPositions();
   ASSERT_EQ(x.size(), 4u);

@@ -31,7 +31,7 @@ inline std::string smallScenario(const std::string& layer1 =
          "  output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0}\n"
          "track:\n"
          "  sleeper: {spacing_m: 0.72, length_m: 2.6, width_m: 0.25}\n"
-         "  extent: {x_min_m: -5.0, x_max_m: 5.0}\n"
+         "  extent: {mode: fixed, x_min_m: -5.0, x_max_m: 5.0}\n"
          "  output: {load_sample_rate_hz: 2000.0}\n"
          "site:\n"
          "  rail_gauge_m: 1.435\n"

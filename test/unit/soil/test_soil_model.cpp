@@ -239,7 +239,11 @@ TEST(SoilParams, SharedValuesAreRefusedByTheirOneLoader) {
   const std::string spacing = message("track.sleeper.spacing_m=6.0", track);
   EXPECT_NE(spacing.find("[0.05, 5]"), std::string::npos) << spacing;
   EXPECT_EQ(message("track.sleeper.spacing_m=6.0", soil), spacing);
-  const std::string extent = message("track.extent.x_max_m=-60.0", track);
-  EXPECT_NE(extent.find("greater than x_min_m"), std::string::npos) << extent;
-  EXPECT_EQ(message("track.extent.x_max_m=-60.0", soil), extent);
+  // (an automatic extent: a run the soil and the track read alike)
+  const std::string extent = message("simulation.duration_s=-1", track);
+  EXPECT_NE(extent.find("simulation.duration_s = -1"), std::string::npos) << extent;
+  EXPECT_EQ(message("simulation.duration_s=-1", soil), extent);
+  const std::string margin = message("track.extent.margin_m=-1", track);
+  EXPECT_NE(margin.find("track.extent.margin_m = -1"), std::string::npos) << margin;
+  EXPECT_EQ(message("track.extent.margin_m=-1", soil), margin);
 }

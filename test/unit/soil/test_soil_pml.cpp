@@ -308,6 +308,24 @@ TEST(SoilPml, SleepersInTheLayerAreDroppedOrRefused) {
   EXPECT_EQ(model.droppedSleepers()[0], 0u);
   EXPECT_EQ(model.droppedSleepers()[1], 4u);
   EXPECT_EQ(model.summary()["sleepers_dropped_in_boundary_zone"], 2u);
+  // Not silent: the note says how many, where the loaded region ends and how close the nearest one is.
+  EXPECT_DOUBLE_EQ(model.summary()["loaded_x_m"][0].get<double>(), -2.5);
+  EXPECT_DOUBLE_EQ(model.summary()["loaded_x_m"][1].get<double>(), 2.5);
+  const std::string note = model.droppedLoadsNote();
+  EXPECT_NE(note.find("3 of 6 sleepers"), std::string::npos) << note;
+  EXPECT_NE(note.find("x [-2.5, 2.5] m"), std::string::npos) << note;
+  EXPECT_NE(note.find("2 of them in the 1.5 m pml zone"), std::string::npos) << note;
+  // The nearest plan distance, by sampling the dropped footprints (2.6 m x 0.25 m) on a 1 mm grid.
+  double nearest = 1e300;
+  for (double xs : {-3.6, 3.6, 10.0}) {
+    for (double dx = -0.125; dx <= 0.125 + 1e-12; dx += 0.001) {
+      for (double dy = -1.3; dy <= 1.3 + 1e-12; dy += 0.001) {
+        for (const auto& r : p.receivers) nearest = std::min(nearest, std::hypot(r.x_m - xs - dx, r.y_m - dy));
+      }
+    }
+  }
+  ASSERT_FALSE(p.receivers.empty());
+  EXPECT_NEAR(model.summary()["dropped_nearest_receiver_m"].get<double>(), nearest, 1.5e-3);
   const SoilParams strict = paramsOf(pmlScenario("{thickness_m: 1.5}", "error"));
   EXPECT_NO_THROW(SoilModel(strict, {-2.16, 0.0, 2.16}, kLoadRateHz));
   try {

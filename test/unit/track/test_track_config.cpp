@@ -72,7 +72,10 @@ TEST_P(TrackConfigBad, RefusedWithClearMessage) {
     out << text;
   }
   try {
-    const TrackParams p = loadTrackParams(Config::load(file).root());
+    // The cases that edit the extent replace its mode; the others get the fixed 100 m track.
+    const bool edits_extent = std::string(c.original).find("mode: auto") != std::string::npos;
+    const TrackParams p =
+        loadTrackParams(Config::load(file, edits_extent ? std::vector<std::string>{} : test::fixedExtent()).root());
     (void)p;
     FAIL() << c.name << ": accepted";
   } catch (const ConfigError& e) {
@@ -95,13 +98,13 @@ INSTANTIATE_TEST_SUITE_P(
                 "soft"},
         BadCase{"zero_spacing", "    spacing_m: 0.72", "    spacing_m: 0", "track.sleeper.spacing_m", "[0.05, 5]"},
         BadCase{"unknown_foundation", "    model: clm", "    model: elastic", "track.foundation.model", "elastic"},
-        BadCase{"x_max_below_x_min", "    x_max_m: 50.0", "    x_max_m: -60.0", "track.extent.x_max_m",
-                "greater than x_min_m"},
+        BadCase{"x_max_below_x_min", "    mode: auto", "    mode: fixed\n    x_min_m: -50.0\n    x_max_m: -60.0",
+                "track.extent.x_max_m", "greater than x_min_m"},
         BadCase{"zero_elements", "    elements_per_bay: 4", "    elements_per_bay: 0", "track.rail.elements_per_bay",
                 "0"},
         BadCase{"fractional_elements", "    elements_per_bay: 4", "    elements_per_bay: 2.5",
                 "track.rail.elements_per_bay", "2.5"},
-        BadCase{"too_few_sleepers", "    x_min_m: -50.0\n    x_max_m: 50.0", "    x_min_m: -2.0\n    x_max_m: 2.0",
+        BadCase{"too_few_sleepers", "    mode: auto", "    mode: fixed\n    x_min_m: -2.0\n    x_max_m: 2.0",
                 "track.extent.x_max_m", "at least 10"},
         BadCase{"negative_damping", "    damping_n_s_m: 30.0e3", "    damping_n_s_m: -30.0e3",
                 "track.railpad.damping_n_s_m", "[0, "},
@@ -137,8 +140,8 @@ TEST(TrackConfig, OverrideValidated) {
 TEST(TrackOutput, FailedRunLeavesNoPartialFile) {
   const std::string path = tempDir() + "/moving_load.csv";
   fs::remove(path);
-  const TrackModel model(
-      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=3"}));
+  const TrackModel model(test::haren({"track.extent.mode=fixed", "track.extent.x_min_m=-15", "track.extent.x_max_m=15",
+                                      "track.ends.absorbing_length_m=3"}));
   MovingLoadRun run;
   run.dt_s = 1e-3;
   run.duration_s = 10.0;  // the load leaves the 30 m rail after ~1.3 s
@@ -205,7 +208,7 @@ TEST(TrackTool, FailuresLeaveNoOutputFile) {
       {"receptance --config " + cfg + " --foundation elastic --csv " + csv, 3},
       // a load leaves the rail half-way through the run: rows were written, then removed (exit 1)
       {"moving-load --config " + cfg +
-           " --set track.extent.x_min_m=-30 --set track.extent.x_max_m=30 "
+           " --set track.extent.mode=fixed --set track.extent.x_min_m=-30 --set track.extent.x_max_m=30 "
            "--set track.ends.absorbing_length_m=5 --dt 1e-3 --rate 100 --duration 60 --csv " +
            csv,
        1},

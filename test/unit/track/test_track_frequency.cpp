@@ -88,8 +88,9 @@ Peaks peaksOf(const TrackParams& p) {
 
 TEST(TrackReceptance, BallastStiffnessShiftsResonances) {
   // --- CLM: two peaks (in-phase ~15 Hz, out-of-phase ~78 Hz)
-  const TrackParams clm = test::haren({"track.foundation.model=clm", "track.extent.x_min_m=-30",
-                                       "track.extent.x_max_m=30", "track.ends.absorbing_length_m=10"});
+  const TrackParams clm =
+      test::haren({"track.foundation.model=clm", "track.extent.mode=fixed", "track.extent.x_min_m=-30",
+                   "track.extent.x_max_m=30", "track.ends.absorbing_length_m=10"});
   auto with_kb = [](TrackParams p, double factor) {
     p.ballast_stiffness_n_m *= factor;  // k_f fixed (Winkler k_f was derived from the nominal k_b)
     return p;
@@ -118,8 +119,9 @@ TEST(TrackReceptance, BallastStiffnessShiftsResonances) {
   EXPECT_LT(std::abs(cf.peaks[1].frequency_hz / c1.peaks[1].frequency_hz - 1.0), 0.05);
 
   // --- Winkler: the track resonance (~70 Hz [paper]) rises with k_b, much less with k_f
-  const TrackParams wk = test::haren({"track.foundation.model=winkler", "track.extent.x_min_m=-30",
-                                      "track.extent.x_max_m=30", "track.ends.absorbing_length_m=10"});
+  const TrackParams wk =
+      test::haren({"track.foundation.model=winkler", "track.extent.mode=fixed", "track.extent.x_min_m=-30",
+                   "track.extent.x_max_m=30", "track.ends.absorbing_length_m=10"});
   const Peaks w1 = peaksOf(wk), w2 = peaksOf(with_kb(wk, 2.0)), wf = peaksOf(with_kf(wk, 2.0));
   const Peaks wh = peaksOf(with_kb(wk, 0.5));
   ASSERT_EQ(w1.peaks.size(), 1u);

@@ -20,8 +20,8 @@ namespace {
 TEST(TrackNewmarkEnergy, ConservedWithoutDamping) {
   for (const std::string fm : {"clm", "winkler", "rigid"}) {
     const TrackParams p =
-        test::haren({"track.foundation.model=" + fm, "track.extent.x_min_m=0", "track.extent.x_max_m=10",
-                     "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
+        test::haren({"track.foundation.model=" + fm, "track.extent.mode=fixed", "track.extent.x_min_m=0",
+                     "track.extent.x_max_m=10", "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
                      "track.ballast.damping_n_s_m=0", "track.foundation.clm.damping_n_s_m=0",
                      "track.foundation.clm.coupling_damping_n_s_m=0", "track.foundation.winkler.damping_n_s_m=0"});
     const TrackModel model(p);
@@ -56,8 +56,8 @@ TEST(TrackNewmarkEnergy, ConservedWithoutDamping) {
 
 // With damping the energy can only decrease (C positive semi-definite, incl. negative d_c).
 TEST(TrackNewmarkEnergy, DecaysWithDamping) {
-  const TrackParams p =
-      test::haren({"track.extent.x_min_m=0", "track.extent.x_max_m=10", "track.ends.absorbing_length_m=0"});
+  const TrackParams p = test::haren({"track.extent.mode=fixed", "track.extent.x_min_m=0", "track.extent.x_max_m=10",
+                                     "track.ends.absorbing_length_m=0"});
   const TrackModel model(p);
   EXPECT_TRUE(model.dampingIsPositiveSemiDefinite());
   TrackNewmark nm(model, 1.0e-4);
@@ -99,8 +99,8 @@ TEST(TrackMovingLoad, QuasiStaticEquilibrium) {
 
 // Coupling API: predict + unit responses + commitContact == step with the same loads.
 TEST(TrackNewmarkCoupling, ContactStepEqualsPlainStep) {
-  const TrackModel model(
-      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=4"}));
+  const TrackModel model(test::haren({"track.extent.mode=fixed", "track.extent.x_min_m=-15", "track.extent.x_max_m=15",
+                                      "track.ends.absorbing_length_m=4"}));
   TrackNewmark a(model, 1.0e-5), b(model, 1.0e-5);
   const std::vector<PointLoad> initial{{-1.0, 20e3}, {0.7, 30e3}};
   a.setStaticEquilibrium(initial);
@@ -138,6 +138,7 @@ TEST(TrackNewmarkCoupling, ContactStepEqualsPlainStep) {
 double impulseMismatch(const std::string& ends_length, const std::vector<std::string>& overrides) {
   auto run = [&](double half_length, const std::string& labs) {
     std::vector<std::string> o = overrides;
+    o.push_back("track.extent.mode=fixed");
     o.push_back("track.extent.x_min_m=-50");
     o.push_back("track.extent.x_max_m=" + std::to_string(half_length));
     o.push_back("track.ends.absorbing_length_m=" + labs);
@@ -207,8 +208,9 @@ TEST(TrackEnds, ReflectionsAreSmall) {
 }
 
 TEST(TrackStepper, SoilLoadsAreTwiceTheHalfTrack) {
-  TrackStepper st(
-      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=4"}), 1.0e-4);
+  TrackStepper st(test::haren({"track.extent.mode=fixed", "track.extent.x_min_m=-15", "track.extent.x_max_m=15",
+                               "track.ends.absorbing_length_m=4"}),
+                  1.0e-4);
   st.start({{0.0, 30e3}});
   double sum = 0.0;
   for (size_t i = 0; i < st.soilLoadsBothRails().size(); ++i) {
@@ -231,8 +233,8 @@ namespace {
 // The stream the track node wraps: constant loads in, decimated soil loads
 // (both rails) out; in statics they sum to twice the applied wheel loads.
 TEST(TrackSoilLoadStream, DecimatedLoadsCarryTheAppliedLoad) {
-  const TrackParams p =
-      test::haren({"track.extent.x_min_m=-15", "track.extent.x_max_m=15", "track.ends.absorbing_length_m=4"});
+  const TrackParams p = test::haren({"track.extent.mode=fixed", "track.extent.x_min_m=-15", "track.extent.x_max_m=15",
+                                     "track.ends.absorbing_length_m=4"});
   SoilLoadStream stream(p, 1.0e-4, 1000.0);
   EXPECT_DOUBLE_EQ(stream.loadSamplePeriod(), 1.0e-3);
   const size_t wheels = 2, samples = 3000;

@@ -14,9 +14,17 @@ namespace railvib::track::test {
 
 inline std::string configPath(const std::string& name) { return std::string(RAILVIB_SOURCE_DIR) + "/config/" + name; }
 
-/// The Haren track parameters as configured (config/track_haren.yaml), with overrides.
+/// The track file alone has no run to size an automatic extent from: the track tests give it the fixed
+/// 100 m track (their own overrides come after these and win).
+inline std::vector<std::string> fixedExtent(const std::vector<std::string>& overrides = {}) {
+  std::vector<std::string> all{"track.extent.mode=fixed", "track.extent.x_min_m=-50", "track.extent.x_max_m=50"};
+  all.insert(all.end(), overrides.begin(), overrides.end());
+  return all;
+}
+
+/// The Haren track parameters as configured (config/track_haren.yaml) on the fixed 100 m track, with overrides.
 inline TrackParams haren(const std::vector<std::string>& overrides = {}) {
-  return loadTrackParams(Config::load(configPath("track_haren.yaml"), overrides).root());
+  return loadTrackParams(Config::load(configPath("track_haren.yaml"), fixedExtent(overrides)).root());
 }
 
 }  // namespace railvib::track::test

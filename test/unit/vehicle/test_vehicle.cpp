@@ -633,7 +633,40 @@ TEST(VehicleConfig, RefusesBadInput) {
   // dt allowed by the range but too coarse for the defect at 90 km/h
   Scenario s({"simulation.time_step_s=5.0e-5", "simulation.speed_m_s=25.0"});
   EXPECT_THROW(VehiclePassage(s.model, s.unevenness, s.pp, s.rail(false)), ConfigError);
-  // a run that leaves the modelled track
-  Scenario l({"simulation.duration_s=20.0"});
+  // a run that leaves a fixed modelled track
+  Scenario l(
+      {"track.extent.mode=fixed", "track.extent.x_min_m=-50", "track.extent.x_max_m=50", "simulation.duration_s=20.0"});
   EXPECT_THROW(VehiclePassage(l.model, l.unevenness, l.pp, l.rail(true)), ConfigError);
+  // an automatic extent is not set by hand
+  try {
+    track::loadTrackParams(haren({"track.extent.x_min_m=-60"}).root());
+    ADD_FAILURE() << "x_min_m accepted with mode auto";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("track.extent.x_min_m"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mode: fixed"), std::string::npos) << e.what();
+  }
+}
+
+// track.extent.mode auto: whatever the vehicle and the run, every wheel stays on ordinary track, at
+// least margin_m (less one sleeper bay) from each end layer, from t = 0 to the end; and the extent
+// follows the vehicle loader's own rear axle (one fact, read by the track and by the vehicle).
+TEST(VehicleConfig, AutomaticTrackExtentHoldsEveryVehicleForTheWholeRun) {
+  for (const std::string vehicle : {"t2000", "metro_b"}) {
+    for (const double duration_s : {0.5, 5.0, 10.0, 30.0}) {
+      const std::string label = vehicle + ", " + std::to_string(duration_s) + " s";
+      Scenario s({"vehicle.name=" + vehicle, "simulation.duration_s=" + std::to_string(duration_s)});
+      ASSERT_EQ(s.tp.layout.extent_mode, TrackExtentMode::Auto) << label;
+      const double margin = s.tp.layout.auto_margin_m, end = s.tp.ends.absorbing_length_m;
+      const double rear = loadVehicleParams(s.cfg.root()).axleOffsets().back();
+      const double first_wheel = s.pp.front_axle_start_m - rear;
+      const double last_wheel = s.pp.front_axle_start_m + s.pp.speed_m_s * duration_s;
+      EXPECT_NEAR(s.tp.layout.x_min_m, first_wheel - margin - end, 1e-9) << label;
+      EXPECT_NEAR(s.tp.layout.x_max_m, last_wheel + margin + end, 1e-9) << label;
+      const track::TrackModel track_model(s.tp);
+      EXPECT_GE(first_wheel - (track_model.railStart() + end), margin - s.tp.layout.spacing_m) << label;
+      EXPECT_GE(track_model.railEnd() - end - last_wheel, margin - s.tp.layout.spacing_m) << label;
+      // and the passage accepts it (it refuses wheels on the end layers)
+      EXPECT_NO_THROW(VehiclePassage(s.model, s.unevenness, s.pp, s.rail(false))) << label;
+    }
+  }
 }
