@@ -37,17 +37,16 @@ std::unique_ptr<SoilBoundary> makeSoilBoundary(const BoundarySpec& spec) {
 BoundarySpec loadBoundarySpec(const ConfigNode& b) {
   BoundarySpec spec;
   const std::string method = b.choice("method", {"dashpots", "graded_layer", "pml"});
-  if (method == "dashpots") {
-    spec.method = BoundaryMethod::Dashpots;
-  } else if (method == "graded_layer") {
-    spec.method = BoundaryMethod::GradedLayer;
+  // The section of every method present is validated (a config may keep the settings of a method it
+  // does not use, e.g. to switch back by one override); the chosen method's section is required.
+  if (method == "graded_layer" || b.has("graded_layer")) {
     const ConfigNode g = b.section("graded_layer");
     spec.graded_layer.thickness_m = g.number("thickness_m", Range::positive());
     spec.graded_layer.max_alpha_1_s = g.number("max_alpha_1_s", Range::positive());
     spec.graded_layer.exponent = g.number("exponent", Range::closed(0.25, 8.0), 2.0);
     spec.graded_layer.bottom = g.flag("bottom", true);
-  } else if (method == "pml") {
-    spec.method = BoundaryMethod::Pml;
+  }
+  if (method == "pml" || b.has("pml")) {
     const ConfigNode g = b.section("pml");
     const PmlSpec d;  // defaults
     spec.pml.thickness_m = g.number("thickness_m", Range::positive());
@@ -61,6 +60,9 @@ BoundarySpec loadBoundarySpec(const ConfigNode& b) {
     spec.pml.bottom = g.flag("bottom", d.bottom);
     spec.pml.outer_dashpots = g.flag("outer_dashpots", d.outer_dashpots);
   }
+  if (method == "dashpots") spec.method = BoundaryMethod::Dashpots;
+  if (method == "graded_layer") spec.method = BoundaryMethod::GradedLayer;
+  if (method == "pml") spec.method = BoundaryMethod::Pml;
   return spec;
 }
 

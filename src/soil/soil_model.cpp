@@ -101,7 +101,16 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
       // Plan distance from the receiver to the footprint rectangle.
       const double dx = std::max(0.0, std::abs(r.x_m - sleeper_x_[s]) - hw);
       const double dy = std::max(0.0, std::abs(r.y_m) - hl);
-      dropped_nearest_receiver_m_ = std::min(dropped_nearest_receiver_m_, std::hypot(dx, dy));
+      const double distance_m = std::hypot(dx, dy);
+      if (distance_m < params_.drop_min_receiver_distance_m) {
+        std::ostringstream why;
+        why << "the sleeper at x = " << sleeper_x_[s] << " m lies outside the loaded region x [" << lx0 << ", "
+            << lx1 << "] m of the soil mesh, " << distance_m << " m from receiver '" << r.name
+            << "', nearer than drop_min_receiver_distance_m = " << params_.drop_min_receiver_distance_m
+            << " m: its load would be dropped in the zone of interest; widen soil.mesh along x";
+        throw ConfigError("soil.loads.drop_min_receiver_distance_m: " + why.str());
+      }
+      dropped_nearest_receiver_m_ = std::min(dropped_nearest_receiver_m_, distance_m);
     }
   }
   channel_values_.assign(sleeper_x_.size() - dropped_.size(), 0.0);

@@ -42,6 +42,9 @@ struct SoilParams {
   /// Sleepers whose footprint is not inside the mesh: "error" or "drop" (their load is ignored;
   /// SoilModel::droppedSleepers lists them).
   std::string loads_outside_mesh = "error";
+  /// With "drop": a dropped sleeper footprint nearer than this (m, plan distance) to a receiver is an
+  /// error, so that no load is dropped in the zone of interest.
+  double drop_min_receiver_distance_m = 0.0;
   /// Start from static equilibrium under the first load sample: the model is linear, so the
   /// velocities are those of the load increments F(t) - F(0) from rest (no start-up step).
   bool start_from_static = true;

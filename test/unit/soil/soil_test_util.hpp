@@ -27,7 +27,7 @@ inline std::string smallScenario(const std::string& layer1 =
          mesh_extra +
          "}\n"
          "  boundary: {method: dashpots}\n"
-         "  loads: {outside_mesh: drop}\n"
+         "  loads: {outside_mesh: drop, drop_min_receiver_distance_m: 0.0}\n"
          "  output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0}\n"
          "track:\n"
          "  sleeper: {spacing_m: 0.72, length_m: 2.6, width_m: 0.25}\n"

@@ -335,3 +335,29 @@ TEST(SoilPml, SleepersInTheLayerAreDroppedOrRefused) {
     EXPECT_NE(std::string(e.what()).find("pml zone"), std::string::npos) << e.what();
   }
 }
+
+// drop is never silent in the zone of interest: a sleeper whose dropped footprint comes nearer to a
+// receiver than soil.loads.drop_min_receiver_distance_m is refused, naming the sleeper and the receiver.
+// The bound is the plan distance computed above: just below it the same sleepers are accepted.
+TEST(SoilPml, DroppedLoadsNearAReceiverAreRefused) {
+  std::string y = pmlScenario("{thickness_m: 1.5}");
+  const SoilParams open = paramsOf(y);
+  SoilModel model(open, {-3.6, 0.0, 3.6}, kLoadRateHz);
+  const double nearest = model.summary()["dropped_nearest_receiver_m"].get<double>();
+  ASSERT_GT(nearest, 0.1);
+  const std::string key = "drop_min_receiver_distance_m: 0.0";
+  ASSERT_NE(y.find(key), std::string::npos);
+  std::string below = y, above = y;
+  below.replace(below.find(key), key.size(), "drop_min_receiver_distance_m: " + std::to_string(nearest - 1e-3));
+  above.replace(above.find(key), key.size(), "drop_min_receiver_distance_m: " + std::to_string(nearest + 1e-3));
+  EXPECT_NO_THROW(SoilModel(paramsOf(below), {-3.6, 0.0, 3.6}, kLoadRateHz));
+  try {
+    SoilModel refused(paramsOf(above), {-3.6, 0.0, 3.6}, kLoadRateHz);
+    ADD_FAILURE() << "no ConfigError for a load dropped " << nearest << " m from a receiver";
+  } catch (const railvib::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("soil.loads.drop_min_receiver_distance_m"), std::string::npos) << what;
+    EXPECT_NE(what.find("from receiver '"), std::string::npos) << what;
+    EXPECT_NE(what.find("zone of interest"), std::string::npos) << what;
+  }
+}
