@@ -60,9 +60,9 @@ BoundarySpec loadBoundarySpec(const ConfigNode& b) {
     spec.pml.bottom = g.flag("bottom", d.bottom);
     spec.pml.outer_dashpots = g.flag("outer_dashpots", d.outer_dashpots);
   }
-  if (method == "dashpots") spec.method = BoundaryMethod::Dashpots;
-  if (method == "graded_layer") spec.method = BoundaryMethod::GradedLayer;
-  if (method == "pml") spec.method = BoundaryMethod::Pml;
+  for (BoundaryMethod m : {BoundaryMethod::Dashpots, BoundaryMethod::GradedLayer, BoundaryMethod::Pml}) {
+    if (boundaryMethodName(m) == method) spec.method = m;
+  }
   return spec;
 }
 

@@ -104,8 +104,8 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
       const double distance_m = std::hypot(dx, dy);
       if (distance_m < params_.drop_min_receiver_distance_m) {
         std::ostringstream why;
-        why << "the sleeper at x = " << sleeper_x_[s] << " m lies outside the loaded region x [" << lx0 << ", "
-            << lx1 << "] m of the soil mesh, " << distance_m << " m from receiver '" << r.name
+        why << "the sleeper at x = " << sleeper_x_[s] << " m lies outside the loaded region x [" << lx0 << ", " << lx1
+            << "] m of the soil mesh, " << distance_m << " m from receiver '" << r.name
             << "', nearer than drop_min_receiver_distance_m = " << params_.drop_min_receiver_distance_m
             << " m: its load would be dropped in the zone of interest; widen soil.mesh along x";
         throw ConfigError("soil.loads.drop_min_receiver_distance_m: " + why.str());

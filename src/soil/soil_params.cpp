@@ -105,9 +105,9 @@ void readOutputAndLoads(const ConfigNode& soil, SoilParams& p) {
   const ConfigNode loads = soil.section("loads");
   p.loads_outside_mesh = loads.choice("outside_mesh", {"error", "drop"}, "error");
   // Required with drop (where a load may go missing); validated if given with error.
-  p.drop_min_receiver_distance_m =
-      p.loads_outside_mesh == "drop" ? loads.number("drop_min_receiver_distance_m", Range::closed(0.0, 1.0e4))
-                                     : loads.number("drop_min_receiver_distance_m", Range::closed(0.0, 1.0e4), 0.0);
+  p.drop_min_receiver_distance_m = p.loads_outside_mesh == "drop"
+                                       ? loads.number("drop_min_receiver_distance_m", Range::closed(0.0, 1.0e4))
+                                       : loads.number("drop_min_receiver_distance_m", Range::closed(0.0, 1.0e4), 0.0);
   p.start_from_static = loads.flag("start_from_static", true);
 }
 

@@ -371,3 +371,22 @@ TEST(SoilPml, DroppedLoadsNearAReceiverAreRefused) {
     EXPECT_NE(what.find("zone of interest"), std::string::npos) << what;
   }
 }
+
+// The key itself: required with outside_mesh: drop, a finite distance in [0, 1e4] m.
+TEST(SoilPml, DropDistanceKeyIsValidated) {
+  const std::string y = pmlScenario("{thickness_m: 1.5}");
+  const std::string key = "drop_min_receiver_distance_m: 0.0";
+  ASSERT_NE(y.find(key), std::string::npos);
+  auto with = [&](const std::string& replacement) {
+    std::string z = y;
+    z.replace(z.find(key), key.size(), replacement);
+    return z;
+  };
+  std::string missing = y;
+  missing.replace(missing.find(", " + key), key.size() + 2, "");
+  expectConfigError(missing, "soil.loads.drop_min_receiver_distance_m");
+  for (const char* bad : {"-1.0", "2.0e4", ".nan", ".inf", "near"}) {
+    expectConfigError(with(std::string("drop_min_receiver_distance_m: ") + bad),
+                      "soil.loads.drop_min_receiver_distance_m");
+  }
+}
