@@ -622,11 +622,20 @@ struct UnknownKeyWalk {
 
   bool known(const std::string& normalized) const {
     if (data.queried.count(normalized)) return true;
-    // Inside an inactive alternative (or a subtree marked known).
+    // Inside an inactive alternative (or a subtree marked known) that no loader read into: a
+    // subtree a loader validates anyway (soil.boundary keeps the sections of the methods it does
+    // not choose) is checked key by key, so a typo there is refused as anywhere else.
     for (std::string p = normalized; !p.empty(); p = parentOf(p)) {
-      if (data.inactive.count(p)) return true;
+      if (data.inactive.count(p)) return !readInside(p);
     }
     return false;
+  }
+
+  // Whether a loader asked for a key below `path`.
+  bool readInside(const std::string& path) const {
+    const std::string prefix = path + ".";
+    const auto it = data.queried.lower_bound(prefix);
+    return it != data.queried.end() && it->compare(0, prefix.size(), prefix) == 0;
   }
 
   // The valid keys next to `normalized`: what the loaders asked for under the same parent.

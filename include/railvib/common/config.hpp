@@ -13,7 +13,8 @@
 // Config::refuseUnknownKeys() can refuse what no loader knows (a typo) with the
 // nearest valid key. A choice (e.g. `model: clm`) makes the sibling sections
 // named after its other allowed values (`winkler:`) inactive alternatives:
-// known, not read.
+// known, not read (unless a loader reads into one anyway: then its keys are
+// checked like any other).
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -97,6 +97,18 @@ TEST(ConfigStrict, TheAlternativeNotChosenIsKnownNotRead) {
   expectContains(lines[0], {"track.winklr", "did you mean track.winkler?"});
 }
 
+// An alternative not chosen that its loader validates anyway (soil.boundary keeps every method's
+// section and checks them all) is checked key by key: a typo there is refused like anywhere else.
+TEST(ConfigStrict, AnAlternativeReadAnywayIsCheckedForTypos) {
+  const Config c = Config::fromString(
+      "track:\n  rail: {mass_kg: 54}\n  model: clm\n  clm: {k_n_m: 1}\n  winkler: {k_n_m: 2, k_n_mm: 3}\n");
+  readTrack(c);
+  c.section("track").section("winkler").number("k_n_m", Range::positive());
+  const auto lines = c.unknownKeys();
+  ASSERT_EQ(lines.size(), 1u);
+  expectContains(lines[0], {"track.winkler.k_n_mm", "did you mean track.winkler.k_n_m?"});
+}
+
 TEST(ConfigStrict, ListEntriesShareTheirKeys) {
   const Config c = Config::fromString("layers:\n  - {thickness_m: 1}\n  - {thickness_m: 2, thicknes_m: 3}\n");
   for (const auto& l : c.root().sectionList("layers")) l.number("thickness_m", Range::positive());
