@@ -3,13 +3,14 @@
 2 m and 8 m, Winkler vs CLM, house vs free field, first floor vs ground floor, KB_F), from the bags
 of `./railvib run` (docs/validation.md).
 
-usage: ./railvib exec python3 scripts/validation_chain.py BAG [--winkler BAG] [--config FILE]
-                                                          [--out DIR] [--set key=value ...]
+usage: ./railvib exec python3 scripts/validation_chain.py BAG [--winkler BAG] [--two-way BAG]
+                                        [--config FILE] [--out DIR] [--set key=value ...]
 
 Exports the vertical velocity of every virtual sensor (/sensor_samples) and of the free-field
 point at the house's response point (/surface_velocities, `bldg_response_point`) to
 OUT/<bag>_sensors.csv (t_s, <name>_vz_m_s), then runs
-`railvib_tool validate --no-models --chain ... [--chain-winkler ...]`, which judges the claims
+`railvib_tool validate --no-models --chain ... [--chain-winkler ...] [--chain-two-way ...]`, which
+judges the claims
 (the verdict logic lives in the core, src/validation/chain_claims.cpp) and exits 4 when a claim
 that agreed no longer agrees. Give the --config/--set of the run so the house and the axle times
 are those of the bag.
@@ -74,6 +75,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("bag", help="bag of a CLM run (./railvib run)")
     ap.add_argument("--winkler", help="bag of the same run with foundation:=winkler")
+    ap.add_argument("--two-way", help="bag of the same run with coupling:=two_way (the house acts on the soil)")
     ap.add_argument("--config", help="scenario of the runs (default: config/haren.yaml)")
     ap.add_argument("--set", action="append", default=[], help="the run's overrides, key=value")
     ap.add_argument("--out", default=None, help="directory for the exported CSVs (default: next to the bag)")
@@ -85,6 +87,8 @@ def main():
            "validate", "--no-models", "--chain", str(export(a.bag, out_dir))]
     if a.winkler:
         cmd += ["--chain-winkler", str(export(a.winkler, out_dir))]
+    if a.two_way:
+        cmd += ["--chain-two-way", str(export(a.two_way, out_dir))]
     if a.config:
         cmd += ["--config", a.config]
     for s in a.set:

@@ -30,6 +30,7 @@ int validate(const std::vector<std::string>& args) {
   p.option("chain", "virtual-sensor records of a CLM chain run (CSV t_s, <sensor>_vz_m_s; scripts/validation_chain.py)",
            "");
   p.option("chain-winkler", "the same for a Winkler run (chain.winkler_vs_clm)", "");
+  p.option("chain-two-way", "the same for a run with building.coupling: two_way (chain.house_amplitude_reduction)", "");
   p.flag("no-models", "with --chain: only the chain claims");
   p.option("markdown", "also write the table as Markdown to this file", "");
   if (!p.parse(args)) return 0;
@@ -44,7 +45,11 @@ int validate(const std::vector<std::string>& args) {
     validation::SensorRecords wink;
     const bool has_wink = p.has("chain-winkler") && !p.get("chain-winkler").empty();
     if (has_wink) wink = validation::readSensorRecords(p.get("chain-winkler"));
-    for (auto& c : validation::chainClaims(cfg, clm, has_wink ? &wink : nullptr)) claims.push_back(c);
+    validation::SensorRecords two_way;
+    const bool has_two_way = p.has("chain-two-way") && !p.get("chain-two-way").empty();
+    if (has_two_way) two_way = validation::readSensorRecords(p.get("chain-two-way"));
+    for (auto& c : validation::chainClaims(cfg, clm, has_wink ? &wink : nullptr, has_two_way ? &two_way : nullptr))
+      claims.push_back(c);
   }
   json table = json::array();
   int agrees = 0, differs = 0, pending = 0;

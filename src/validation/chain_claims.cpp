@@ -134,10 +134,11 @@ std::vector<double> toMmS(const std::vector<double>& v) {
 
 }  // namespace
 
-std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, const SensorRecords* winkler) {
+std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, const SensorRecords* winkler,
+                               const SensorRecords* two_way) {
   std::vector<Claim> out;
   const double fs = clm.rate_hz;
-  const std::string cmd = "scripts/validation_chain.py BAG [--winkler BAG]";
+  const std::string cmd = "scripts/validation_chain.py BAG [--winkler BAG] [--two-way BAG]";
   // one period of the comb of the closest axle pair (smoothedSpectrum)
   const vehicle::PassageParams run = vehicle::loadPassageParams(cfg.root());
   const std::vector<double> axles = vehicle::loadVehicleParams(cfg.root()).axleOffsets();
@@ -219,14 +220,30 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
   {
     Claim c = claim("chain.house_amplitude_reduction", "chain",
                     "a decrease in amplitude is shown when the building is taken into account (section 3.5, Fig. 16)",
-                    "free-field amplitude at the house lower with the house in the soil than without it");
-    c.expected = Verdict::Pending;
-    c.verdict = Verdict::Pending;
-    c.ours = "needs building.coupling: two_way and a run without the house";
-    c.cause =
-        "needs a run with building.coupling: two_way and one without the house (this record is one run); with "
-        "one-way coupling the free field is, by construction, unchanged";
-    c.command = cmd + " with --set building.coupling=two_way";
+                    "PPV_z of the soil at the house's response point with the house (building.coupling: two_way) "
+                    "at most 0.95 x the free field there without it (the one-way run, whose soil does not see the "
+                    "house)");
+    c.expected = Verdict::Agrees;
+    c.command = cmd;
+    const std::vector<double>* with_house = two_way ? two_way->find(names::kBuildingResponseFreeFieldPoint) : nullptr;
+    if (!ff || !with_house) {
+      c.ours = two_way ? "no record at the house's response point" : "no two-way run given";
+      c.verdict = Verdict::Pending;
+    } else if (std::abs(two_way->rate_hz - fs) > 1e-6 * fs) {
+      throw std::runtime_error("validate: the two-way record's rate " + fixed(two_way->rate_hz, 3) +
+                               " Hz is not the run's " + fixed(fs, 3) + " Hz");
+    } else {
+      const double r = ppv(*with_house) / ppv(*ff);
+      auto rms = [](const std::vector<double>& x) {
+        double s2 = 0.0;
+        for (double v : x) s2 += v * v;
+        return x.empty() ? 0.0 : std::sqrt(s2 / static_cast<double>(x.size()));
+      };
+      c.ours = "with / without the house PPV_z " + fixed(r, 2) + " (" + fixed(1e3 * ppv(*with_house), 2) + " / " +
+               fixed(1e3 * ppv(*ff), 2) + " mm/s), rms " + fixed(rms(*with_house) / rms(*ff), 2);
+      c.verdict = verdictOf(r <= 0.95);
+      c.cause = "the house's foundation does not lower the soil's motion at its response point";
+    }
     out.push_back(c);
   }
   {

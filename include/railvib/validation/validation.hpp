@@ -69,8 +69,11 @@ struct SensorRecords {
 /// receivers.csv, or scripts/validation_chain.py's export of a bag).
 SensorRecords readSensorRecords(const std::string& csv_path);
 
-/// The chain claims from a run with the CLM foundation and, if given, one with Winkler.
-std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, const SensorRecords* winkler);
+/// The chain claims from a run with the CLM foundation (one-way coupling: the soil does not see the
+/// house, so its receiver at the house is the free field without it) and, if given, the same run
+/// with Winkler, and the same run with building.coupling: two_way (the house acts on the soil).
+std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, const SensorRecords* winkler,
+                               const SensorRecords* two_way = nullptr);
 
 /// One reading of the paper's vehicle parameters: config overrides on the scenario.
 struct Reading {

@@ -42,8 +42,9 @@ TEST(Validation, QuickModelClaimsKeepTheirRecordedVerdicts) {
 namespace {
 /// A record of the four sensors: each axle's impact rings as a decaying sine at `f_ground_hz` on
 /// the ground sensors and the ground floor; the first floor rings at `f_floor_hz` with a decay
-/// time `floor_decay_s`.
-std::string writeRecords(const std::string& name, double f_ground_hz, double f_floor_hz, double floor_decay_s) {
+/// time `floor_decay_s`; the soil at the house's response point moves as `response_point_scale` x g.
+std::string writeRecords(const std::string& name, double f_ground_hz, double f_floor_hz, double floor_decay_s,
+                         double response_point_scale = 0.8) {
   const std::string path = std::string(::testing::TempDir()) + "/" + name + ".csv";
   std::ofstream f(path);
   f << "t_s,ground_2m_vz_m_s,ground_8m_vz_m_s,house_ground_floor_vz_m_s,house_first_floor_vz_m_s,"
@@ -57,7 +58,7 @@ std::string writeRecords(const std::string& name, double f_ground_hz, double f_f
       g += 1e-3 * std::exp(-(t - ti) / 0.03) * std::sin(2 * M_PI * f_ground_hz * (t - ti));
       h += 1e-3 * std::exp(-(t - ti) / floor_decay_s) * std::sin(2 * M_PI * f_floor_hz * (t - ti));
     }
-    f << t << "," << g << "," << 0.3 * g << "," << 0.8 * g << "," << h << "," << 0.8 * g << "\n";
+    f << t << "," << g << "," << 0.3 * g << "," << 0.8 * g << "," << h << "," << response_point_scale * g << "\n";
   }
   return path;
 }
@@ -91,7 +92,32 @@ TEST(Validation, ChainClaimsJudgeSyntheticRecords) {
   EXPECT_EQ(find(b, "chain.ground_spectrum.ground_2m").verdict, Verdict::Differs);
   EXPECT_EQ(find(b, "chain.first_floor_bending_modes").verdict, Verdict::Differs);
   EXPECT_EQ(find(b, "chain.kbf_impacts_resolved").verdict, Verdict::Differs);
-  EXPECT_EQ(find(b, "chain.winkler_vs_clm").verdict, Verdict::Differs);  // peaks 10 Hz apart
+  EXPECT_EQ(find(b, "chain.winkler_vs_clm").verdict, Verdict::Differs);             // peaks 10 Hz apart
+  EXPECT_EQ(find(b, "chain.house_amplitude_reduction").verdict, Verdict::Pending);  // no two-way run given
+}
+
+TEST(Validation, HouseAmplitudeReductionComparesTheSoilAtTheHouseWithAndWithoutIt) {
+  // The one-way record's response point is the free field (0.8 g); a two-way record whose soil
+  // there moves 0.5 / 0.8 of it (-37.5 %) shows the paper's decrease; one moving as much, or 5 %
+  // less (the criterion's edge, 0.95), or more, does not.
+  const Config cfg = haren();
+  const SensorRecords one_way = readSensorRecords(writeRecords("ssi_one_way", 33.0, 33.0, 0.03));
+  struct Case {
+    double scale;
+    Verdict verdict;
+  };
+  for (const Case k : {Case{0.5, Verdict::Agrees}, Case{0.8 * 0.94, Verdict::Agrees},
+                       Case{0.8 * 0.96, Verdict::Differs}, Case{0.8, Verdict::Differs}, Case{1.2, Verdict::Differs}}) {
+    const SensorRecords two_way =
+        readSensorRecords(writeRecords("ssi_two_way_" + std::to_string(k.scale), 33.0, 33.0, 0.03, k.scale));
+    const std::vector<Claim> claims = chainClaims(cfg, one_way, nullptr, &two_way);
+    const Claim& c = find(claims, "chain.house_amplitude_reduction");
+    EXPECT_EQ(c.verdict, k.verdict) << k.scale << ": " << c.ours;
+    // the ratio it reports (2 decimals) is the records' (written to 6 digits)
+    const size_t at = c.ours.find("PPV_z ");
+    ASSERT_NE(at, std::string::npos) << c.ours;
+    EXPECT_NEAR(std::stod(c.ours.substr(at + 6)), k.scale / 0.8, 0.0051) << c.ours;
+  }
 }
 
 TEST(Validation, ReadingsAreConfigOverridesThatLoad) {
