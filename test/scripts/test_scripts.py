@@ -7,7 +7,10 @@
   no block, one without its end, a recorder that stopped on disk full) is reported with exit 1 and
   every stream named; a foreign bag, railvib names with other types, a bag with only /tf_static, a
   malformed block, a truncated or empty file are refused with exit 2 (report: non-zero, no traceback);
-- launch_scenario.py's verdict: only a run whose recorder ends first and cleanly passes.
+- launch_scenario.py's verdict: only a run whose recorder ends first and cleanly passes;
+- compare.py: a house run whose soil, floors and section move at half the free run's shows
+  -6.02 dB in every one-third-octave band and half the PPV (the metrics are linear in the record);
+  a bag without the house is refused with its name, without a traceback.
 
 usage: test_scripts.py [JUNIT_XML]
 """
@@ -222,6 +225,86 @@ class BagCheck(unittest.TestCase):
             self.assertNotIn("Traceback", out.stderr, name)
 
 
+def house_bag(path, scale, with_house=True):
+    """A 2 s record at 1000 Hz of two ground sensors and the two floors, the surface receivers (the
+    house's response point among them), and the section through the house: every signal is `scale`
+    x the same decaying 20 Hz impact at 0.5 s."""
+    import math
+    fs, n = 1000.0, 2000
+    wave = [0.0 if k < 500 else 1e-3 * math.exp(-(k - 500) / fs / 0.05) * math.sin(2 * math.pi * 20 * (k - 500) / fs)
+            for k in range(n)]
+    sensors = ["ground_2m", "ground_8m"] + (["house_ground_floor", "house_first_floor"] if with_house else [])
+    receivers = ["line_y1", names.BUILDING_RESPONSE_FREE_FIELD_POINT, "bldg_front_mid", "bldg_back_mid"]
+    rec_y = [1.0, 8.0, 4.7, 11.7]
+    msgs = []
+    layout = rm.PointLayout()
+    layout.names = receivers if with_house else receivers[:1]
+    from geometry_msgs.msg import Point
+    layout.positions = [Point(0.0, y, 0.0) for y in rec_y[:len(layout.names)]]
+    msgs.append((names.SURFACE_POINTS, layout))
+    for first in range(0, n, 500):
+        ss = rm.SensorSamples()
+        ss.header.stamp = rospy.Time.from_sec(first / fs)
+        ss.first_sample_index, ss.sample_count, ss.sample_period_s = first, 500, 1 / fs
+        ss.end_of_stream = first + 500 == n
+        ss.sensor_count, ss.sensor_names = len(sensors), sensors
+        ss.velocity_m_s = [scale * wave[k] * (c == 2) for k in range(first, first + 500) for _ in sensors for c in range(3)]
+        ss.acceleration_m_s2 = [0.0] * len(ss.velocity_m_s)
+        msgs.append((names.SENSOR_SAMPLES, ss))
+        sv = rm.SurfaceVelocities()
+        sv.header.stamp = ss.header.stamp
+        sv.first_sample_index, sv.sample_count, sv.sample_period_s = first, 500, 1 / fs
+        sv.end_of_stream = ss.end_of_stream
+        sv.receiver_count = len(layout.names)
+        sv.velocity_m_s = [scale * wave[k] * (c == 2) for k in range(first, first + 500) for _ in layout.names
+                           for c in range(3)]
+        msgs.append((names.SURFACE_VELOCITIES, sv))
+    for i, k in enumerate(range(0, n, 10)):
+        sec = rm.SectionSnapshot()
+        sec.header.stamp = rospy.Time.from_sec(k / fs)
+        sec.sample_index, sec.x_m, sec.origin_y_m, sec.spacing_y_m, sec.ny = i, 0.0, -2.0, 1.0, 16
+        sec.depth_m = [0.0, 0.5, 1.0, 2.0]
+        sec.vertical_velocity_m_s = [scale * wave[k] * (1 + 0.1 * iy) for _ in sec.depth_m for iy in range(16)]
+        msgs.append((names.SECTION_SNAPSHOT, sec))
+    status = {"status": "closed: all streams complete", "expected_streams": [names.SURFACE_VELOCITIES, names.SENSOR_SAMPLES]}
+    return write_bag(path, msgs, status)
+
+
+class Compare(unittest.TestCase):
+    def run_compare(self, free, house, out):
+        return subprocess.run([sys.executable, str(SCRIPTS / "compare.py"), str(free), str(house), str(out)],
+                              capture_output=True, text=True)
+
+    def test_half_the_motion_is_six_decibels_in_every_band(self):
+        free, house = house_bag(WORK / "cmp_free.bag", 1.0), house_bag(WORK / "cmp_house.bag", 0.5)
+        out = self.run_compare(free, house, WORK / "cmp")
+        self.assertEqual(out.returncode, 0, out.stderr)
+        result = json.loads((WORK / "cmp" / "compare.json").read_text())
+        self.assertEqual(result["figures"], ["floors_vs_free_field.png", "section_snapshots.png", "section.gif"])
+        for f in result["figures"]:
+            self.assertGreater((WORK / "cmp" / f).stat().st_size, 10000, f)
+        rec = result["records"]
+        self.assertAlmostEqual(rec["soil under the house"]["ppv_z_mm_s"] / rec["free field"]["ppv_z_mm_s"], 0.5,
+                               places=9)
+        for floor in ("house_ground_floor", "house_first_floor"):
+            self.assertAlmostEqual(rec[floor + ", two-way"]["ppv_z_mm_s"] / rec[floor + ", one-way"]["ppv_z_mm_s"],
+                                   0.5, places=9)
+            self.assertAlmostEqual(rec[floor + ", one-way"]["kb_fmax"], rec["free field"]["kb_fmax"], places=9)
+        loud = [b for b in result["bands"] if b["free_field_db"] > 40.0]  # the bands the impact fills
+        self.assertGreaterEqual(len(loud), 5)
+        for b in loud:  # 20 log10(0.5) = -6.02 dB; levels are printed to 0.01 dB
+            self.assertAlmostEqual(b["under_house_db"] - b["free_field_db"], -6.02, delta=0.011, msg=b)
+
+    def test_a_run_without_the_house_is_refused(self):
+        free = house_bag(WORK / "cmp_free2.bag", 1.0)
+        bare = house_bag(WORK / "cmp_bare.bag", 1.0, with_house=False)
+        out = self.run_compare(free, bare, WORK / "cmp_bare")
+        self.assertNotEqual(out.returncode, 0)
+        self.assertIn("a run with the house is needed", out.stderr)
+        self.assertIn("house_ground_floor", out.stderr)
+        self.assertNotIn("Traceback", out.stderr)
+
+
 class LaunchVerdict(unittest.TestCase):
     REQUIRED = {"vehicle", "track", "soil", "building", "virtual_sensor", "recorder", "master"}
 
@@ -245,7 +328,7 @@ class LaunchVerdict(unittest.TestCase):
 def write_junit(result, path):
     suite = ET.Element("testsuite", name="script_tests", tests=str(result.testsRun))
     failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in (TestSummary, BagCheck, LaunchVerdict):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict):
         for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
             case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
             if test.id() in failed:
@@ -256,7 +339,7 @@ def write_junit(result, path):
 
 if __name__ == "__main__":
     suite = unittest.TestSuite()
-    for cls in (TestSummary, BagCheck, LaunchVerdict):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict):
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:

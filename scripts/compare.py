@@ -1,0 +1,300 @@
+#!/usr/bin/env python3
+"""railvib compare: the house's effect on the soil, from two bags of the same scenario (paper Figs. 15, 16).
+
+usage: ./railvib compare FREE_BAG HOUSE_BAG [OUTDIR] [--at T ...] [--window S] [--config FILE] [--set key=value ...]
+
+FREE_BAG:  a run whose soil does not see the house (building.coupling: one_way; its receiver at the
+           house's response point is the free field without the house, and its house is driven by it);
+HOUSE_BAG: the same run with building.coupling: two_way (the foundation and the house act on the soil).
+
+Writes into OUTDIR (default: HOUSE_BAG without .bag + "_vs_free_field"):
+  floors_vs_free_field.png  ground and first floor, side by side with the free field: vertical velocity,
+                            its amplitude spectrum and KB_F(t) of the vertical component (DIN 4150-2,
+                            from `railvib_tool metrics`, the core's code);
+  section_snapshots.png     the paper's Fig. 16: vertical velocity on the vertical plane perpendicular to
+                            the track through the defect and the house (/section_snapshot), without and
+                            with the house, at the chosen times (--at; default: around the time the wave
+                            field under the house peaks), the house and its embedded foundation marked;
+  section.gif               the same planes as an animation over --window seconds around those times;
+  compare.md                the metrics side by side and the one-third-octave levels of the soil at the
+                            house's response point with and without the house.
+--config/--set: the scenario of the runs (the foundation's depth is read from it, merged and checked by
+`railvib_tool config-check --dump`).
+"""
+import argparse
+import json
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import yaml
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import animation  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
+
+import bag_check  # noqa: E402
+import railvib_names as names  # noqa: E402
+import report  # noqa: E402  (stream reading, spectra and metrics: one place)
+
+try:
+    import rosbag
+except ImportError:  # pragma: no cover
+    sys.exit("railvib compare: python3-rosbag is required (./railvib setup installs it)")
+
+FLOORS = ("house_ground_floor", "house_first_floor")
+BAND_RANGE_HZ = (8.0, 63.0)  # the one-third-octave bands shown: the mesh resolves up to 50 Hz
+
+
+def die(msg):
+    sys.exit("railvib compare: error: " + msg)
+
+
+class Run:
+    """The records of one bag that the comparison needs."""
+
+    def __init__(self, path):
+        checked = bag_check.check_bag(path)
+        if checked.refused:
+            die(f"{path}: {checked.refused}")
+        if checked.incomplete:
+            die(f"{path}: incomplete streams: {', '.join(checked.incomplete)}")
+        self.path = pathlib.Path(path)
+        with rosbag.Bag(str(path)) as bag:
+            ss = report.read_stream(bag, names.SENSOR_SAMPLES)
+            sv = report.read_stream(bag, names.SURFACE_VELOCITIES)
+            points, _ = report.layout(bag, names.SURFACE_POINTS)
+            if not ss or not sv or not points:
+                die(f"{path}: needs {names.SENSOR_SAMPLES}, {names.SURFACE_VELOCITIES} and {names.SURFACE_POINTS}")
+            sensors = list(ss[0].sensor_names)
+            missing = [f for f in FLOORS if f not in sensors]
+            if missing or names.BUILDING_RESPONSE_FREE_FIELD_POINT not in points:
+                die(f"{path}: a run with the house is needed (missing: "
+                    f"{', '.join(missing + [names.BUILDING_RESPONSE_FREE_FIELD_POINT])})")
+            v = np.concatenate([np.array(b.velocity_m_s).reshape(-1, len(sensors), 3) for b in ss])
+            self.dt = ss[0].sample_period_s
+            self.t = np.arange(len(v)) * self.dt
+            self.floor = {f: v[:, sensors.index(f), :] for f in FLOORS}
+            nr = sv[0].receiver_count
+            r = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
+            if abs(sv[0].sample_period_s - self.dt) > 1e-12:
+                die(f"{path}: receivers at {1 / sv[0].sample_period_s:g} Hz, sensors at {1 / self.dt:g} Hz")
+            n = min(len(r), len(v))
+            self.t = self.t[:n]
+            self.floor = {f: x[:n] for f, x in self.floor.items()}
+            self.soil_at_house = r[:n, points.index(names.BUILDING_RESPONSE_FREE_FIELD_POINT), :]
+            _, pos = report.layout(bag, names.SURFACE_POINTS)
+            house_y = [p[1] for name, p in zip(points, pos) if name.startswith("bldg_")]
+            self.house_y = (min(house_y), max(house_y)) if house_y else None
+            self.section_t, self.section = [], []
+            for _, m, _ in bag.read_messages(topics=[names.SECTION_SNAPSHOT]):
+                if len(m.vertical_velocity_m_s) != m.ny * len(m.depth_m):
+                    die(f"{path}: a section snapshot of {len(m.vertical_velocity_m_s)} values for "
+                        f"{m.ny} x {len(m.depth_m)}")
+                self.section_t.append(m.header.stamp.to_sec())
+                self.section.append(np.array(m.vertical_velocity_m_s, dtype=float).reshape(len(m.depth_m), m.ny))
+                self.section_y = m.origin_y_m + m.spacing_y_m * np.arange(m.ny)
+                self.section_depth = np.array(m.depth_m)
+                self.section_x = m.x_m
+            self.section_t = np.array(self.section_t)
+
+
+def foundation_depth_m(config, overrides):
+    exe = report.tool()
+    cmd = exe + ["config-check", "--dump"] + (["--config", config] if config else [])
+    for s in overrides:
+        cmd += ["--set", s]
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        die("the scenario was refused: " + out.stderr.strip())
+    return float(yaml.safe_load(out.stdout)["building"]["foundation"]["depth_m"])
+
+
+def metrics(t, v, outdir, name):
+    summary, kbf = report.metrics(t, v, outdir, name)
+    levels = {b["nominal_hz"]: b["level_db"] for b in summary["third_octave"]["components"][2]["levels"]}
+    return summary, kbf, levels
+
+
+def floors_figure(free, house, outdir):
+    """Rows: ground floor, first floor; columns: v_z(t), |V_z|(f), KB_F(t) of v_z. Returns the metrics."""
+    results = {"free field": metrics(free.t, free.soil_at_house, outdir, "free_field_at_house"),
+               "soil under the house": metrics(house.t, house.soil_at_house, outdir, "soil_at_house_two_way")}
+    fig, axes = plt.subplots(2, 3, figsize=(15, 7), squeeze=False)
+    for row, floor in enumerate(FLOORS):
+        results[f"{floor}, one-way"] = metrics(free.t, free.floor[floor], outdir, f"{floor}_one_way")
+        results[f"{floor}, two-way"] = metrics(house.t, house.floor[floor], outdir, f"{floor}_two_way")
+        curves = [("free field (one-way run's soil: no house)", free.t, free.soil_at_house, results["free field"],
+                   "0.45"),
+                  (f"{floor}, one-way (on the free field)", free.t, free.floor[floor], results[f"{floor}, one-way"],
+                   "C0"),
+                  (f"{floor}, two-way (on the soil)", house.t, house.floor[floor], results[f"{floor}, two-way"], "C3")]
+        for label, t, v, (_, kbf, _), colour in curves:
+            axes[row][0].plot(t, v[:, 2] * 1e3, color=colour, lw=0.6, label=label)
+            fr, amp = report.spectrum(t, v[:, 2] * 1e3)
+            axes[row][1].plot(fr, amp, color=colour, lw=0.7, label=label)
+            axes[row][2].plot(kbf["t_s"], kbf["kb_f_vz"], color=colour, lw=0.8, label=label)
+        axes[row][0].set_ylabel(f"{floor.replace('house_', '').replace('_', ' ')}\nv_z [mm/s]")
+        axes[row][1].set_ylabel("|V_z| [mm/s] (Hann)")
+        axes[row][2].set_ylabel("KB_F(t) of v_z [-]")
+        axes[row][1].set_xlim(0, 100)
+        for a, xl in zip(axes[row], ("time [s]", "frequency [Hz]", "time [s]")):
+            a.set_xlabel(xl)
+            a.grid(alpha=0.3)
+        axes[row][0].legend(fontsize=7, loc="upper right")
+    fig.suptitle("House response points vs the free field at the same place (paper Fig. 15)")
+    fig.tight_layout()
+    fig.savefig(outdir / "floors_vs_free_field.png", dpi=110)
+    plt.close(fig)
+    return results
+
+
+def chosen_times(free, house, at, y_range):
+    if at:
+        return sorted(at)
+    # Around the time the free field under the house peaks: the wave has reached it.
+    mask = (free.section_y >= y_range[0]) & (free.section_y <= y_range[1])
+    peak = [np.abs(s[:, mask]).max() for s in free.section]
+    t0 = float(free.section_t[int(np.argmax(peak))])
+    return [t0 - 0.06, t0 - 0.03, t0, t0 + 0.03]
+
+
+def section_figures(free, house, outdir, times, window_s, depth_m):
+    if not len(free.section) or not len(house.section):
+        return []
+    if free.section[0].shape != house.section[0].shape:
+        die("the two runs' sections differ in size (not the same mesh)")
+    nearest = [int(np.argmin(np.abs(free.section_t - t))) for t in times]
+    frames = [free.section[i] for i in nearest] + [house.section[int(np.argmin(np.abs(house.section_t - free.section_t[i])))]
+                                                   for i in nearest]
+    y, z = free.section_y, free.section_depth
+    # Colour scale from the plane in front of the house and beyond (the field under the track, 10 x
+    # stronger, would saturate it and hide the house's effect).
+    near_house = y >= (free.house_y[0] - 2.0 if free.house_y else y[0])
+    lim = float(np.percentile(np.abs(np.concatenate([f[:, near_house].ravel() for f in frames])), 99.5)) * 1e3 or 1.0
+    deepest = min(z[-1], 8.0)
+
+    def draw(ax, field, title):
+        im = ax.pcolormesh(y, z, field * 1e3, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto")
+        ax.set_ylim(deepest, 0)
+        ax.set_title(title, fontsize=8)
+        if free.house_y:
+            ax.add_patch(Rectangle((free.house_y[0], 0), free.house_y[1] - free.house_y[0], depth_m, fill=False,
+                                   ec="k", lw=1.0))
+            ax.plot(free.house_y, [0, 0], "k-", lw=3)
+        ax.axvline(0.0, color="0.3", ls="--", lw=0.6)
+        return im
+
+    fig, axes = plt.subplots(2, len(nearest), figsize=(3.6 * len(nearest), 5.6), squeeze=False, sharey=True,
+                             constrained_layout=True)
+    for col, i in enumerate(nearest):
+        j = int(np.argmin(np.abs(house.section_t - free.section_t[i])))
+        im = draw(axes[0][col], free.section[i], f"no house (one-way), t = {free.section_t[i]:.2f} s")
+        draw(axes[1][col], house.section[j], f"with the house (two-way), t = {house.section_t[j]:.2f} s")
+        axes[1][col].set_xlabel("distance from the track axis y [m]")
+    for r in (0, 1):
+        axes[r][0].set_ylabel("depth [m]")
+    fig.colorbar(im, ax=axes, label="vertical velocity [mm/s]", shrink=0.8)
+    fig.suptitle(f"Vertical velocity on the plane x = {free.section_x:.2f} m (through the defect and the house; "
+                 "paper Fig. 16); box: the house and its foundation; dashed: track axis", fontsize=9)
+    fig.savefig(outdir / "section_snapshots.png", dpi=110)
+    plt.close(fig)
+
+    t_a, t_b = times[0] - 0.5 * window_s, times[-1] + 0.5 * window_s
+    idx = [i for i, t in enumerate(free.section_t) if t_a <= t <= t_b]
+    fig, axes = plt.subplots(2, 1, figsize=(7, 6.4), sharex=True, constrained_layout=True)
+    ims = [draw(axes[0], free.section[idx[0]], ""), draw(axes[1], house.section[idx[0]], "")]
+    axes[1].set_xlabel("distance from the track axis y [m]")
+    for a in axes:
+        a.set_ylabel("depth [m]")
+    fig.colorbar(ims[0], ax=axes, label="vertical velocity [mm/s]", shrink=0.8)
+
+    def frame(k):
+        i = idx[k]
+        j = int(np.argmin(np.abs(house.section_t - free.section_t[i])))
+        ims[0].set_array((free.section[i] * 1e3).ravel())
+        ims[1].set_array((house.section[j] * 1e3).ravel())
+        axes[0].set_title(f"no house (one-way), t = {free.section_t[i]:.2f} s", fontsize=9)
+        axes[1].set_title(f"with the house (two-way), t = {house.section_t[j]:.2f} s", fontsize=9)
+        return ims
+
+    anim = animation.FuncAnimation(fig, frame, frames=len(idx), blit=False)
+    anim.save(outdir / "section.gif", writer=animation.PillowWriter(fps=10), dpi=80)
+    plt.close(fig)
+    return ["section_snapshots.png", "section.gif"]
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("free_bag")
+    ap.add_argument("house_bag")
+    ap.add_argument("outdir", nargs="?")
+    ap.add_argument("--at", type=float, action="append", default=[], help="snapshot time (s), repeatable")
+    ap.add_argument("--window", type=float, default=0.3, help="animation length around the snapshot times (s)")
+    ap.add_argument("--config", help="scenario of the runs (default: the tool's, config/haren.yaml)")
+    ap.add_argument("--set", action="append", default=[], help="the runs' common overrides, key=value")
+    a = ap.parse_args(argv[1:])
+    for p in (a.free_bag, a.house_bag):
+        if not pathlib.Path(p).exists():
+            die(f"no such bag: {p}")
+    if a.window <= 0 or not np.isfinite(a.window):
+        die(f"--window {a.window}: must be a positive number of seconds")
+    house_bag = pathlib.Path(a.house_bag)
+    outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(house_bag.stem + "_vs_free_field")
+    outdir.mkdir(parents=True, exist_ok=True)
+    depth = foundation_depth_m(a.config, a.set)
+    free, house = Run(a.free_bag), Run(a.house_bag)
+    if abs(free.dt - house.dt) > 1e-12:
+        die("the two runs' sensors have different rates")
+    for t in a.at:
+        if not (np.isfinite(t) and 0.0 <= t <= free.t[-1]):
+            die(f"--at {t}: outside the record [0, {free.t[-1]:.3f}] s")
+
+    results = floors_figure(free, house, outdir)
+    figures = ["floors_vs_free_field.png"]
+    times = chosen_times(free, house, a.at, free.house_y or (free.section_y[0], free.section_y[-1])) \
+        if len(free.section) else []
+    if times:
+        figures += section_figures(free, house, outdir, times, a.window, depth)
+
+    lines = [f"# railvib: the house's effect on the soil: `{house_bag.name}` against `{pathlib.Path(a.free_bag).name}`",
+             "", "Free field: the one-way run's soil at the house's response point (its soil does not see the house; "
+             "its house is driven by that free field). Two-way: the house and its foundation act on the soil; the "
+             "soil at the response point is then the foundation's motion there. KB_F and PPV from "
+             "`railvib_tool metrics` (DIN 4150-2 / -3, the core's code).", "",
+             "| record | PPV_z [mm/s] | vector PPV [mm/s] | KB_Fmax | dominant frequency of v_z [Hz] |",
+             "|---|---|---|---|---|"]
+    for name, (summary, _, _) in results.items():
+        vz = summary["din4150_3"]["components"][2]
+        lines.append(f"| {name} | {vz['ppv_mm_s']:.3f} | {summary['din4150_3']['vector_peak_mm_s']:.3f} | "
+                     f"{summary['din4150_2']['kb_fmax']:.4f} | {vz['dominant_frequency_hz']:.1f} |")
+    free_levels, with_levels = results["free field"][2], results["soil under the house"][2]
+    lines += ["", "One-third-octave levels of v_z (dB re 1e-9 m/s) at the house's response point:", "",
+              "| band [Hz] | free field | soil under the house | difference [dB] | amplitude ratio |",
+              "|---|---|---|---|---|"]
+    for f in sorted(free_levels):
+        if BAND_RANGE_HZ[0] <= f <= BAND_RANGE_HZ[1] and f in with_levels:
+            d = with_levels[f] - free_levels[f]
+            lines.append(f"| {f:g} | {free_levels[f]:.1f} | {with_levels[f]:.1f} | {d:+.1f} | {10 ** (d / 20):.2f} |")
+    if times:
+        lines += ["", "Section snapshots at t = " + ", ".join(f"{t:.2f}" for t in times) + " s."]
+    lines += ["", "## Figures", ""] + [f"![{f}]({f})" for f in figures]
+    (outdir / "compare.md").write_text("\n".join(lines) + "\n")
+    records = {name: {"ppv_z_mm_s": r[0]["din4150_3"]["components"][2]["ppv_mm_s"],
+                      "vector_ppv_mm_s": r[0]["din4150_3"]["vector_peak_mm_s"],
+                      "kb_fmax": r[0]["din4150_2"]["kb_fmax"]} for name, r in results.items()}
+    bands = [{"nominal_hz": f, "free_field_db": free_levels[f], "under_house_db": with_levels[f]}
+             for f in sorted(free_levels) if BAND_RANGE_HZ[0] <= f <= BAND_RANGE_HZ[1] and f in with_levels]
+    (outdir / "compare.json").write_text(json.dumps({"free_bag": str(a.free_bag), "house_bag": str(a.house_bag),
+                                                     "snapshot_times_s": times, "figures": figures,
+                                                     "records": records, "bands": bands}, indent=1))
+    print(f"railvib compare: {outdir / 'compare.md'} ({len(figures)} figures)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
