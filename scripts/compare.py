@@ -67,7 +67,7 @@ class Run:
         with rosbag.Bag(str(path)) as bag:
             ss = report.read_stream(bag, names.SENSOR_SAMPLES)
             sv = report.read_stream(bag, names.SURFACE_VELOCITIES)
-            points, _ = report.layout(bag, names.SURFACE_POINTS)
+            points, pos = report.layout(bag, names.SURFACE_POINTS)
             if not ss or not sv or not points:
                 die(f"{path}: needs {names.SENSOR_SAMPLES}, {names.SURFACE_VELOCITIES} and {names.SURFACE_POINTS}")
             sensors = list(ss[0].sensor_names)
@@ -87,7 +87,6 @@ class Run:
             self.t = self.t[:n]
             self.floor = {f: x[:n] for f, x in self.floor.items()}
             self.soil_at_house = r[:n, points.index(names.BUILDING_RESPONSE_FREE_FIELD_POINT), :]
-            _, pos = report.layout(bag, names.SURFACE_POINTS)
             house_y = [p[1] for name, p in zip(points, pos) if name.startswith("bldg_")]
             self.house_y = (min(house_y), max(house_y)) if house_y else None
             self.section_t, self.section = [], []
