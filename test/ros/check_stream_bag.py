@@ -6,7 +6,7 @@ blocks contiguous from sample 0 (first_sample_index), the last block flagged
 end_of_stream, each block's bag time equal to its header stamp (simulation
 time), and the sample count equal to duration / period + 1.
 
-With ~tf_pose_period_s, also asserts that /tf holds every tram pose from t = 0
+With ~tf_pose_period_s, also asserts that /tf holds every tram pose (the ~tram_frames) from t = 0
 to the end (one message per period, bag time = the poses' stamp) and that
 /tf_static holds the ~static_frames.
 
@@ -97,7 +97,8 @@ class StreamBagTest(unittest.TestCase):
         if self.check_metrics:
             self.check_live_metrics_against_offline()
         if rospy.has_param("~tf_pose_period_s"):
-            self.check_tf_recorded(float(rospy.get_param("~tf_pose_period_s")), rospy.get_param("~static_frames"))
+            self.check_tf_recorded(float(rospy.get_param("~tf_pose_period_s")), rospy.get_param("~static_frames"),
+                                   rospy.get_param("~tram_frames"))
         if rospy.get_param("~check_report", False):
             self.check_report_of_the_bag()
 
@@ -151,12 +152,13 @@ class StreamBagTest(unittest.TestCase):
         rospy.loginfo("soil loads / (2 x contact forces) - 1: worst %.2e over %d samples", worst, checked)
         self.assertLess(worst, tolerance, "soil loads do not carry twice the contact forces")
 
-    def check_tf_recorded(self, period_s, static_frames):
+    def check_tf_recorded(self, period_s, static_frames, tram_frames):
         with rosbag.Bag(self.bag_path) as bag:
             stamps = []
             for _, m, t in bag.read_messages(topics=["/tf"]):
                 frames = {tr.child_frame_id for tr in m.transforms}
-                self.assertIn("tram/front_carbody", frames)
+                for frame in tram_frames:  # the bodies of the vehicle the scenario runs
+                    self.assertIn(frame, frames)
                 stamp = max(tr.header.stamp for tr in m.transforms)
                 self.assertTrue(all(tr.header.stamp == stamp for tr in m.transforms), "one pose time per message")
                 self.assertEqual(t.to_nsec(), max(stamp.to_nsec(), TIME_MIN_NS), "/tf: bag time differs from stamp")
