@@ -1,6 +1,7 @@
 // railvib_tool validate: the chain held against the paper's claims (docs/validation.md).
 #include <chrono>
 #include <iostream>
+#include <optional>
 
 #include "command_registry.hpp"
 #include "railvib/io/atomic_file.hpp"
@@ -42,13 +43,13 @@ int validate(const std::vector<std::string>& args) {
   if (!p.isSet("no-models")) claims = validation::modelClaims(cfg, opt);
   if (p.has("chain") && !p.get("chain").empty()) {
     const validation::SensorRecords clm = validation::readSensorRecords(p.get("chain"));
-    validation::SensorRecords wink;
-    const bool has_wink = p.has("chain-winkler") && !p.get("chain-winkler").empty();
-    if (has_wink) wink = validation::readSensorRecords(p.get("chain-winkler"));
-    validation::SensorRecords two_way;
-    const bool has_two_way = p.has("chain-two-way") && !p.get("chain-two-way").empty();
-    if (has_two_way) two_way = validation::readSensorRecords(p.get("chain-two-way"));
-    for (auto& c : validation::chainClaims(cfg, clm, has_wink ? &wink : nullptr, has_two_way ? &two_way : nullptr))
+    // the records of an optional companion run, empty when its option is not given
+    auto companion = [&](const std::string& option) {
+      return p.has(option) && !p.get(option).empty() ? std::optional(validation::readSensorRecords(p.get(option)))
+                                                     : std::nullopt;
+    };
+    const auto wink = companion("chain-winkler"), two_way = companion("chain-two-way");
+    for (auto& c : validation::chainClaims(cfg, clm, wink ? &*wink : nullptr, two_way ? &*two_way : nullptr))
       claims.push_back(c);
   }
   json table = json::array();
