@@ -75,12 +75,12 @@ class Run:
             if missing or names.BUILDING_RESPONSE_FREE_FIELD_POINT not in points:
                 die(f"{path}: a run with the house is needed (missing: "
                     f"{', '.join(missing + [names.BUILDING_RESPONSE_FREE_FIELD_POINT])})")
-            v = np.concatenate([np.array(b.velocity_m_s).reshape(-1, len(sensors), 3) for b in ss])
+            v = report.stacked(ss, "velocity_m_s", len(sensors), 3)
             self.dt = ss[0].sample_period_s
             self.t = np.arange(len(v)) * self.dt
             self.floor = {f: v[:, sensors.index(f), :] for f in FLOORS}
             nr = sv[0].receiver_count
-            r = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
+            r = report.stacked(sv, "velocity_m_s", nr, 3)
             if abs(sv[0].sample_period_s - self.dt) > 1e-12:
                 die(f"{path}: receivers at {1 / sv[0].sample_period_s:g} Hz, sensors at {1 / self.dt:g} Hz")
             n = min(len(r), len(v))
@@ -152,7 +152,7 @@ def floors_figure(free, house, outdir):
     return results
 
 
-def chosen_times(free, house, at, y_range):
+def chosen_times(free, at, y_range):
     if at:
         return sorted(at)
     # Around the time the free field under the house peaks: the wave has reached it.
@@ -167,9 +167,10 @@ def section_figures(free, house, outdir, times, window_s, depth_m):
         return []
     if free.section[0].shape != house.section[0].shape:
         die("the two runs' sections differ in size (not the same mesh)")
+    # the house run's snapshot at the time of each of the free run's
+    twin = [int(np.argmin(np.abs(house.section_t - t))) for t in free.section_t]
     nearest = [int(np.argmin(np.abs(free.section_t - t))) for t in times]
-    frames = [free.section[i] for i in nearest] + [house.section[int(np.argmin(np.abs(house.section_t - free.section_t[i])))]
-                                                   for i in nearest]
+    frames = [free.section[i] for i in nearest] + [house.section[twin[i]] for i in nearest]
     y, z = free.section_y, free.section_depth
     # Colour scale from the plane in front of the house and beyond (the field under the track, 10 x
     # stronger, would saturate it and hide the house's effect).
@@ -191,7 +192,7 @@ def section_figures(free, house, outdir, times, window_s, depth_m):
     fig, axes = plt.subplots(2, len(nearest), figsize=(3.6 * len(nearest), 5.6), squeeze=False, sharey=True,
                              constrained_layout=True)
     for col, i in enumerate(nearest):
-        j = int(np.argmin(np.abs(house.section_t - free.section_t[i])))
+        j = twin[i]
         im = draw(axes[0][col], free.section[i], f"no house (one-way), t = {free.section_t[i]:.2f} s")
         draw(axes[1][col], house.section[j], f"with the house (two-way), t = {house.section_t[j]:.2f} s")
         axes[1][col].set_xlabel("distance from the track axis y [m]")
@@ -206,7 +207,7 @@ def section_figures(free, house, outdir, times, window_s, depth_m):
     t_a, t_b = times[0] - 0.5 * window_s, times[-1] + 0.5 * window_s
     idx = [i for i, t in enumerate(free.section_t) if t_a <= t <= t_b]
     fig, axes = plt.subplots(2, 1, figsize=(7, 6.4), sharex=True, constrained_layout=True)
-    ims = [draw(axes[0], free.section[idx[0]], ""), draw(axes[1], house.section[idx[0]], "")]
+    ims = [draw(axes[0], free.section[idx[0]], ""), draw(axes[1], house.section[twin[idx[0]]], "")]
     axes[1].set_xlabel("distance from the track axis y [m]")
     for a in axes:
         a.set_ylabel("depth [m]")
@@ -214,7 +215,7 @@ def section_figures(free, house, outdir, times, window_s, depth_m):
 
     def frame(k):
         i = idx[k]
-        j = int(np.argmin(np.abs(house.section_t - free.section_t[i])))
+        j = twin[i]
         ims[0].set_array((free.section[i] * 1e3).ravel())
         ims[1].set_array((house.section[j] * 1e3).ravel())
         axes[0].set_title(f"no house (one-way), t = {free.section_t[i]:.2f} s", fontsize=9)
@@ -255,7 +256,7 @@ def main(argv):
 
     results = floors_figure(free, house, outdir)
     figures = ["floors_vs_free_field.png"]
-    times = chosen_times(free, house, a.at, free.house_y or (free.section_y[0], free.section_y[-1])) \
+    times = chosen_times(free, a.at, free.house_y or (free.section_y[0], free.section_y[-1])) \
         if len(free.section) else []
     if times:
         figures += section_figures(free, house, outdir, times, a.window, depth)

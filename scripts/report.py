@@ -63,6 +63,11 @@ def read_stream(bag, topic):
     return blocks
 
 
+def stacked(blocks, field, *per_sample):
+    """One array [sample, *per_sample] of a stream field over its blocks (in read_stream's order)."""
+    return np.concatenate([np.array(getattr(b, field)).reshape(-1, *per_sample) for b in blocks])
+
+
 def layout(bag, topic):
     for _, m, _ in bag.read_messages(topics=[topic]):
         return list(m.names), [(p.x, p.y, p.z) for p in m.positions]
@@ -153,8 +158,8 @@ def main(argv):
         cf = read_stream(bag, names.CONTACT_FORCES)
         if cf:
             nw = cf[0].wheel_count
-            f = np.concatenate([np.array(b.force_n).reshape(-1, nw) for b in cf])
-            x = np.concatenate([np.array(b.position_m).reshape(-1, nw) for b in cf])
+            f = stacked(cf, "force_n", nw)
+            x = stacked(cf, "position_m", nw)
             t = np.arange(len(f)) * cf[0].sample_period_s
             fig, ax = plt.subplots(figsize=(9, 4))
             for w in range(nw):
@@ -179,7 +184,7 @@ def main(argv):
         if ss:
             sensor_names = list(ss[0].sensor_names)
             ns = len(sensor_names)
-            v = np.concatenate([np.array(b.velocity_m_s).reshape(-1, ns, 3) for b in ss])
+            v = stacked(ss, "velocity_m_s", ns, 3)
             t = np.arange(len(v)) * ss[0].sample_period_s
             fig, axes = plt.subplots(ns, 3, figsize=(13, 2.6 * ns), squeeze=False)
             for i, name in enumerate(sensor_names):
@@ -230,7 +235,7 @@ def main(argv):
         points, pos = layout(bag, names.SURFACE_POINTS)
         if sv and points:
             nr = sv[0].receiver_count
-            vel = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
+            vel = stacked(sv, "velocity_m_s", nr, 3)
             t = np.arange(len(vel)) * sv[0].sample_period_s
             line = [(pos[i][1], i) for i, n in enumerate(points) if n.startswith(names.RECEIVER_LINE_PREFIX)]
             if line:
@@ -258,11 +263,8 @@ def main(argv):
             snames = list(ss[0].sensor_names)
             floors = [n for n in ("house_ground_floor", "house_first_floor") if n in snames]
             if floors:
-                ns = len(snames)
-                vs = np.concatenate([np.array(b.velocity_m_s).reshape(-1, ns, 3) for b in ss])
+                vs, vf = v, vel  # the sensor and receiver records stacked above
                 ts = np.arange(len(vs)) * ss[0].sample_period_s
-                nr = sv[0].receiver_count
-                vf = np.concatenate([np.array(b.velocity_m_s).reshape(-1, nr, 3) for b in sv])
                 tf = np.arange(len(vf)) * sv[0].sample_period_s
                 free = vf[:, points.index(free_field_point), 2] * 1e3
                 fig, axes = plt.subplots(len(floors), 2, figsize=(12, 3.2 * len(floors)), squeeze=False)
