@@ -63,7 +63,6 @@ class Run:
             die(f"{path}: {checked.refused}")
         if checked.incomplete:
             die(f"{path}: incomplete streams: {', '.join(checked.incomplete)}")
-        self.path = pathlib.Path(path)
         with rosbag.Bag(str(path)) as bag:
             ss = report.read_stream(bag, names.SENSOR_SAMPLES)
             sv = report.read_stream(bag, names.SURFACE_VELOCITIES)

@@ -15,6 +15,7 @@
 usage: test_scripts.py [JUNIT_XML]
 """
 import json
+import math
 import os
 import pathlib
 import shutil
@@ -34,6 +35,7 @@ import test_summary  # noqa: E402
 
 import rosbag  # noqa: E402
 import rospy  # noqa: E402
+from geometry_msgs.msg import Point  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 from tf2_msgs.msg import TFMessage  # noqa: E402
 import railvib.msg as rm  # noqa: E402
@@ -229,7 +231,6 @@ def house_bag(path, scale, with_house=True):
     """A 2 s record at 1000 Hz of two ground sensors and the two floors, the surface receivers (the
     house's response point among them), and the section through the house: every signal is `scale`
     x the same decaying 20 Hz impact at 0.5 s."""
-    import math
     fs, n = 1000.0, 2000
     wave = [0.0 if k < 500 else 1e-3 * math.exp(-(k - 500) / fs / 0.05) * math.sin(2 * math.pi * 20 * (k - 500) / fs)
             for k in range(n)]
@@ -239,7 +240,6 @@ def house_bag(path, scale, with_house=True):
     msgs = []
     layout = rm.PointLayout()
     layout.names = receivers if with_house else receivers[:1]
-    from geometry_msgs.msg import Point
     layout.positions = [Point(0.0, y, 0.0) for y in rec_y[:len(layout.names)]]
     msgs.append((names.SURFACE_POINTS, layout))
     for first in range(0, n, 500):
