@@ -268,8 +268,39 @@ int decimatorCheck(const std::vector<std::string>& args) {
   return 0;
 }
 
+// The guide values every figure and monitor draws as lines, from the same functions the verdicts use.
+int dinGuides(const std::vector<std::string>& args) {
+  ArgParser p("din-guides",
+              "DIN 4150-2 guide values (residential, day and night) and the DIN 4150-3 residential guideline "
+              "curve, as JSON for plots");
+  p.option("step-hz", "frequency step of the DIN 4150-3 curve (Hz)", "1");
+  p.option("max-hz", "highest frequency of the DIN 4150-3 curve (Hz)", "100");
+  if (!p.parse(args)) return 0;
+  const double step = p.getDouble("step-hz");
+  const double f_max = p.getDouble("max-hz");
+  if (!(step > 0.0 && std::isfinite(step)) || !(f_max > 0.0 && f_max <= 1e4)) {
+    throw std::invalid_argument("din-guides: --step-hz must be > 0 and --max-hz in (0, 1e4]");
+  }
+  json din2 = json::object();
+  for (const auto& [name, period] :
+       {std::pair{"day", Din4150_2Period::Day}, std::pair{"night", Din4150_2Period::Night}}) {
+    const Din4150_2GuideValues g = din4150_2Residential(period);
+    din2[name] = {{"a_u", g.a_u}, {"a_o", g.a_o}, {"a_r", g.a_r}};
+  }
+  json f_hz = json::array(), limit = json::array();
+  for (double f = 0.0; f <= f_max + 1e-9; f += step) {
+    f_hz.push_back(f);
+    limit.push_back(din4150_3ResidentialLimitMmS(f));
+  }
+  printJson(
+      {{"din4150_2_residential", din2}, {"din4150_3_residential", {{"frequency_hz", f_hz}, {"limit_mm_s", limit}}}});
+  return 0;
+}
+
 const Registrar kMetrics("metrics", "vibration metrics of a velocity CSV (KB_Fmax, PPV/DIN 4150-3, 1/3 octave)",
                          metrics);
+const Registrar kDinGuides("din-guides", "DIN 4150-2 guide values and the DIN 4150-3 guideline curve (JSON)",
+                           dinGuides);
 const Registrar kDinCheck("din-check", "DIN 45669-1 KB test table computed vs expected", dinCheck);
 const Registrar kDecimatorCheck("decimator-check", "anti-alias decimator design figures (ripple, stop band, latency)",
                                 decimatorCheck);

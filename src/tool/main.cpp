@@ -4,6 +4,7 @@
 #include "command_registry.hpp"
 #include "railvib/common/args.hpp"
 #include "railvib/common/config.hpp"
+#include "railvib/common/version.hpp"
 
 namespace railvib::tool {
 std::map<std::string, CommandInfo>& commandRegistry() {
@@ -14,7 +15,8 @@ std::map<std::string, CommandInfo>& commandRegistry() {
 
 namespace {
 void printUsage() {
-  std::cout << "usage: railvib_tool COMMAND [options]   (railvib_tool COMMAND --help for its options)\n\ncommands:\n";
+  std::cout << "usage: railvib_tool COMMAND [options]   (railvib_tool COMMAND --help for its options; "
+               "railvib_tool --version)\n\ncommands:\n";
   for (const auto& [name, info] : railvib::tool::commandRegistry()) {
     std::cout << "  " << name << std::string(name.size() < 20 ? 20 - name.size() : 1, ' ') << info.summary << "\n";
   }
@@ -27,6 +29,10 @@ int main(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   const std::string command = argv[1];
+  if (command == "--version") {
+    std::cout << "railvib " << railvib::railvibVersion() << "\n";
+    return 0;
+  }
   auto& registry = railvib::tool::commandRegistry();
   auto it = registry.find(command);
   if (it == registry.end()) {

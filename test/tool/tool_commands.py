@@ -139,7 +139,16 @@ class Cases:
         check(s["agrees"] + s["differs"] + s["pending"] == len(s["claims"]), s)
 
     def building_modes(self):
-        s = self.run("building-modes", "--config", CI, "--fmax", 30)
+        s = self.run("building-modes", "--config", CI, "--fmax", 30, "--vtk", WORK / "modes")
+        # The VTK is in frame track: its points are the building frame's moved by the house's origin.
+        check(s["vtk_frame"] == "track" and s["vtk_offset_m"][1] > 0, s.get("vtk_offset_m"))
+        lines = pathlib.Path(s["vtk"]).read_text().splitlines()
+        first = [float(v) for v in lines[lines.index(next(x for x in lines if x.startswith("POINTS"))) + 1].split()]
+        b = self.run("building-modes", "--config", CI, "--fmax", 30, "--vtk", WORK / "modes_b", "--vtk-frame",
+                     "building")
+        lines_b = pathlib.Path(b["vtk"]).read_text().splitlines()
+        first_b = [float(v) for v in lines_b[lines_b.index(next(x for x in lines_b if x.startswith("POINTS"))) + 1].split()]
+        check(all(abs(first[i] - first_b[i] - s["vtk_offset_m"][i]) < 1e-9 for i in range(3)), (first, first_b))
         f = s["modal_frequencies_hz"] if "modal_frequencies_hz" in s else [m["frequency_hz"] for m in s["modes"]]
         check(f and all(x > 0 for x in f), s.keys())
         check(abs(s["mass"]["relative_difference"]) < 1e-9, s["mass"])
@@ -185,6 +194,16 @@ class Cases:
         s = self.run("din-check", "--rate", "1000")
         check(s["pass"], s)
 
+    def din_guides(self):
+        # DIN 4150-2 Table 1 (residential) and DIN 4150-3 Table 1 row 2: the standards' numbers.
+        s = self.run("din-guides", "--step-hz", 5)
+        day, night = s["din4150_2_residential"]["day"], s["din4150_2_residential"]["night"]
+        check((day["a_u"], day["a_o"], day["a_r"]) == (0.15, 3.0, 0.07), day)
+        check((night["a_u"], night["a_o"], night["a_r"]) == (0.1, 0.2, 0.05), night)
+        curve = dict(zip(s["din4150_3_residential"]["frequency_hz"], s["din4150_3_residential"]["limit_mm_s"]))
+        for f_hz, limit_mm_s in ((5, 5.0), (10, 5.0), (30, 10.0), (50, 15.0), (75, 17.5), (100, 20.0)):
+            check(abs(curve[f_hz] - limit_mm_s) < 1e-12, (f_hz, curve[f_hz]))
+
     def decimator_check(self):
         s = self.run("decimator-check", "--channels", 4)
         check(s["passband_ripple_db"] < 0.1 and s["stopband_db"] < -60, s)
@@ -195,7 +214,7 @@ COMMANDS = {
     "track-bench": "track_bench", "vehicle-modes": "vehicle_modes", "wheel-impedance": "wheel_impedance",
     "passage": "passage", "soil": "soil", "soil-bench": "soil_bench", "building-modes": "building_modes",
     "building-tf": "building_tf", "building-response": "building_response",
-    "building-footprint": "building_footprint", "metrics": "metrics", "din-check": "din_check",
+    "building-footprint": "building_footprint", "metrics": "metrics", "din-check": "din_check", "din-guides": "din_guides",
     "decimator-check": "decimator_check",
     "ssi-bench": "ssi_bench", "validate": "validate",
 }
