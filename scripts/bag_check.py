@@ -47,6 +47,8 @@ TYPES = {
     names.SECTION_SNAPSHOT: "railvib/SectionSnapshot",
     names.SENSOR_METRICS: "railvib/VibrationMetrics",
     names.RECORDING_STATUS: "std_msgs/String",
+    names.SCENARIO: "std_msgs/String",
+    names.DIAGNOSTICS: "diagnostic_msgs/DiagnosticArray",
     "/tf": "tf2_msgs/TFMessage",
     "/tf_static": "tf2_msgs/TFMessage",
 }
@@ -58,6 +60,9 @@ ARRAYS = {
     names.BUILDING_RESPONSE: ("point_count", [("velocity_m_s", 3)]),
     names.SENSOR_SAMPLES: ("sensor_count", [("velocity_m_s", 3), ("acceleration_m_s2", 3)]),
 }
+# The standard-typed per-sensor topics (/sensors/<name>/<what>).
+SENSOR_TOPIC_TYPES = {"imu": "sensor_msgs/Imu", "velocity": "geometry_msgs/Vector3Stamped",
+                      "metrics": "railvib/VibrationMetrics"}
 LAYOUT_OF = {names.SOIL_LOADS: names.SLEEPER_LAYOUT, names.SURFACE_VELOCITIES: names.SURFACE_POINTS,
              names.BUILDING_RESPONSE: names.BUILDING_POINTS}
 
@@ -136,8 +141,9 @@ def check_bag(path):
     with bag:
         info = bag.get_type_and_topic_info().topics
         for topic, t in info.items():
-            if topic in TYPES and t.msg_type != TYPES[topic]:
-                result.refused = (f"{topic} has type {t.msg_type}, railvib's is {TYPES[topic]}: not a railvib bag, "
+            expected_type = TYPES.get(topic) or sensor_topic_type(topic)
+            if expected_type and t.msg_type != expected_type:
+                result.refused = (f"{topic} has type {t.msg_type}, railvib's is {expected_type}: not a railvib bag, "
                                   f"or recorded by something else under railvib's names")
                 return result
         if names.RECORDING_STATUS in info:
@@ -181,7 +187,33 @@ def check_bag(path):
                 result.findings.append(f"{topic}: its layout {layout} is not in the bag")
         if names.SENSOR_SAMPLES in result.expected and names.SENSOR_SAMPLES in info and names.SENSOR_METRICS not in info:
             result.findings.append(f"{names.SENSOR_METRICS}: no metrics recorded for the sensors")
+        _check_sensor_topics(bag, info, result)
     return result
+
+
+def sensor_topic_type(topic):
+    """The type of a per-sensor topic /sensors/<name>/<what>, None for any other topic."""
+    parts = topic.split("/")
+    if len(parts) == 4 and parts[0] == "" and parts[1] == "sensors" and parts[2]:
+        return SENSOR_TOPIC_TYPES.get(parts[3])
+    return None
+
+
+def _check_sensor_topics(bag, info, result):
+    """Each sensor's standard topics hold one message per sample of /sensor_samples: none lost."""
+    if names.SENSOR_SAMPLES not in info or result.refused:
+        return
+    samples = 0
+    sensor_names = []
+    for _, m, _ in bag.read_messages(topics=[names.SENSOR_SAMPLES]):
+        samples += m.sample_count
+        sensor_names = list(m.sensor_names)
+    for sensor in sensor_names:
+        for what in ("imu", "velocity"):
+            topic = names.sensor_topic(sensor, what)
+            if topic in info and info[topic].message_count != samples:
+                result.findings.append(f"{topic}: {info[topic].message_count} messages for the {samples} samples of "
+                                       f"{names.SENSOR_SAMPLES}")
 
 
 def main(argv):

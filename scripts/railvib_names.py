@@ -24,6 +24,14 @@ SENSOR_METRICS = "/sensor_metrics"
 SITE_MARKERS = "/visualization/site"
 SURFACE_CLOUD = "/visualization/surface_velocity"
 RECORDING_STATUS = "/railvib/recording"
+SCENARIO = "/railvib/scenario"
+CLOCK = "/clock"
+DIAGNOSTICS = "/diagnostics"
+
+
+def sensor_topic(sensor_name, what):
+    """Per-sensor topics: /sensors/<name>/imu, .../velocity, .../metrics."""
+    return f"/sensors/{sensor_name}/{what}"
 
 RECEIVER_LINE_PREFIX = "line_y"
 BUILDING_RESPONSE_FREE_FIELD_POINT = "bldg_response_point"

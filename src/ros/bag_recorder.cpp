@@ -13,6 +13,8 @@
 #include <sstream>
 
 #include "railvib/common/names.hpp"
+#include "railvib/ros/node_config.hpp"
+#include "railvib/signal/virtual_sensor.hpp"
 
 namespace railvib::ros_io {
 
@@ -81,6 +83,24 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param<std::string>("compression", compression, "lz4");
   private_nh.param("linger_s", linger_s_, linger_s_);
   private_nh.param("min_free_mb", min_free_mb_, min_free_mb_);
+  // The scenario that produces the run (validated like every node's), and its sensors' own topics.
+  std::string scenario_yaml;
+  if (nh.hasParam("/railvib/config_file")) {
+    const Config config = loadNodeConfig(nh);
+    scenario_yaml = scenarioRecordYaml(nh, config);
+    bool sensor_topics = false, use_building = true;
+    private_nh.param("sensor_topics", sensor_topics, sensor_topics);
+    private_nh.param("use_building", use_building, use_building);
+    if (sensor_topics) {
+      for (const auto& sensor : signal::loadVirtualSensorConfig(config.root()).sensors) {
+        if (sensor.source == "building" && !use_building) continue;
+        for (const char* what : {"imu", "velocity", "metrics"})
+          topics.push_back(names::sensorTopic(sensor.spec.name, what));
+      }
+    }
+  } else {
+    ROS_WARN("bag_recorder: /railvib/config_file is not set: the bag will not record the scenario");
+  }
   if (streams.empty() && topics.empty()) throw std::runtime_error("bag_recorder: no ~streams or ~topics to record");
   expected_streams_.clear();
   for (const auto& st : streams) expected_streams_.push_back(nh.resolveName(st));
@@ -107,6 +127,20 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
     failed_ = true;
     close("disk full before the first message");
     throw std::runtime_error("bag_recorder: disk full: " + describeSpace());
+  }
+
+  if (!scenario_yaml.empty()) {
+    std_msgs::String record;
+    record.data = scenario_yaml;
+    scenario_publisher_ = nh.advertise<std_msgs::String>(names::kScenarioTopic, 1, true);
+    scenario_publisher_.publish(record);
+    try {
+      bag_.write(names::kScenarioTopic, ros::TIME_MIN, record);
+    } catch (const rosbag::BagException& e) {
+      failed_ = true;
+      close(std::string("write error: ") + e.what());
+      throw std::runtime_error("bag_recorder: cannot write " + bag_path_ + ": " + e.what());
+    }
   }
 
   enum class Kind { Stream, Stamped, Tf };

@@ -1,22 +1,24 @@
 #include "railvib/ros/node_config.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <ctime>
 #include <sstream>
 
 #include "railvib/common/names.hpp"
+#include "railvib/common/version.hpp"
 #include "railvib/scenario/scenario.hpp"
 
 namespace railvib::ros_io {
 
 const std::vector<std::pair<std::string, std::string>>& launchArgumentKeys() {
-  static const std::vector<std::pair<std::string, std::string>> keys{{"speed", "simulation.speed_m_s"},
-                                                                     {"duration", "simulation.duration_s"},
-                                                                     {"foundation", "track.foundation.model"},
-                                                                     {"track", "simulation.vehicle_track"},
-                                                                     {"coupling", "building.coupling"},
-                                                                     {"vehicle", "vehicle.name"}};
+  static const std::vector<std::pair<std::string, std::string>> keys{
+      {"speed", "simulation.speed_m_s"},        {"duration", "simulation.duration_s"},
+      {"foundation", "track.foundation.model"}, {"track", "simulation.vehicle_track"},
+      {"coupling", "building.coupling"},        {"vehicle", "vehicle.name"}};
   return keys;
 }
 
@@ -86,6 +88,41 @@ Config loadNodeConfig(ros::NodeHandle& nh) {
   Config config = Config::load(file, overrides);
   scenario::validateScenario(config);
   return config;
+}
+
+std::string scenarioRecordYaml(ros::NodeHandle& nh, const Config& config) {
+  std::string command_line, config_file;
+  nh.param<std::string>("/railvib/command_line", command_line, "");
+  if (command_line.empty()) command_line = "(not recorded: the launch file did not set /railvib/command_line)";
+  nh.getParam("/railvib/config_file", config_file);
+  std::map<std::string, std::string> arguments;
+  nh.getParam("/railvib/launch_arguments", arguments);
+  std::vector<std::string> direct;
+  nh.getParam("/railvib/config_overrides", direct);
+  char host[256] = {0};
+  if (::gethostname(host, sizeof(host) - 1) != 0) host[0] = 0;
+  char utc[32] = {0};
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  std::strftime(utc, sizeof(utc), "%Y-%m-%dT%H:%M:%SZ", &tm);
+
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  out << YAML::Key << "railvib_version" << YAML::Value << railvibVersion();
+  out << YAML::Key << "command_line" << YAML::Value << command_line;
+  out << YAML::Key << "config_file" << YAML::Value << config_file;
+  out << YAML::Key << "launch_arguments" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, value] : arguments) out << YAML::Key << name << YAML::Value << value;
+  out << YAML::EndMap;
+  out << YAML::Key << "config_overrides" << YAML::Value << YAML::BeginSeq;
+  for (const auto& o : direct) out << o;
+  out << YAML::EndSeq;
+  out << YAML::Key << "host" << YAML::Value << host;
+  out << YAML::Key << "recorded_utc" << YAML::Value << utc;
+  out << YAML::Key << "config" << YAML::Value << YAML::Load(config.dump());
+  out << YAML::EndMap;
+  return out.c_str();
 }
 
 void reportStartFailure(const std::string& node, const std::string& message) {

@@ -2,6 +2,7 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Vector3Stamped.h>
+#include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/Imu.h>
 
 #include <algorithm>
@@ -53,6 +54,8 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   bool use_building = true;
   int required_subscribers = 1;
   int block_samples = 100;
+  bool publish_clock = false;
+  private_nh.param("publish_clock", publish_clock, publish_clock);
   private_nh.param("use_building", use_building, use_building);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
   private_nh.param("block_samples", block_samples, block_samples);
@@ -74,6 +77,8 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   diagnostics_publisher_ = nh.advertise<diagnostic_msgs::DiagnosticArray>(names::kDiagnosticsTopic, 10);
   // Every sensor's metrics on one topic too, so a recorder needs no sensor names.
   all_metrics_publisher_ = nh.advertise<railvib::VibrationMetrics>(names::kSensorMetricsTopic, 0);
+  // Live runs: simulation time is how far the sensors have got, the time a monitoring tool sees.
+  if (publish_clock) clock_publisher_ = nh.advertise<rosgraph_msgs::Clock>(names::kClockTopic, 100);
 
   auto has_source = [&](const char* name) {
     return std::any_of(sensors_.begin(), sensors_.end(), [&](const Sensor& s) { return s.setup.source == name; });
@@ -147,7 +152,9 @@ void VirtualSensorNode::restartPass(Source& source) {
     s.sensor.reset();
     s.pending.clear();
     s.published = 0;
+    s.latest_time_s = -1.0;
   }
+  clock_s_ = -1.0;
   finished_ = false;
   next_block_index_ = 0;
 }
@@ -176,7 +183,6 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
     source.tracker->accept(block.first_sample_index, block.sample_count);
     const double input_rate = input_rate_hz_;
     std::vector<double> frames(3 * block.sample_count);
-    std::vector<signal::SensorSample> emitted;
     for (auto& s : sensors_) {
       if (s.setup.source != source.name) continue;
       if (!s.sensor) {
@@ -189,13 +195,19 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
               (*block.velocity_m_s)[(static_cast<size_t>(k) * block.point_count + s.point_index) * 3 + c];
         }
       }
-      emitted.clear();
-      s.sensor->push(frames.data(), block.sample_count, emitted);
-      if (block.end_of_stream) s.sensor->flush(emitted);
-      publishSamples(s, emitted, 0);
+      s.fresh.clear();
+      s.sensor->push(frames.data(), block.sample_count, s.fresh);
+      if (block.end_of_stream) s.sensor->flush(s.fresh);
+      if (!s.fresh.empty()) s.latest_time_s = s.fresh.back().time_s;
+    }
+    // The clock first, so that a tool receiving these samples finds now >= their stamps.
+    publishClock();
+    for (auto& s : sensors_) {
+      if (s.setup.source != source.name) continue;
+      publishSamples(s, s.fresh, 0);
       // Final metrics of the whole record, whatever the cadence.
-      if (block.end_of_stream && !emitted.empty() && s.published % metrics_every_ != 0) {
-        publishMetrics(s, emitted.back().time_s);
+      if (block.end_of_stream && !s.fresh.empty() && s.published % metrics_every_ != 0) {
+        publishMetrics(s, s.fresh.back().time_s);
       }
     }
     const double t_s = static_cast<double>(block.first_sample_index + block.sample_count) * block.sample_period_s;
@@ -210,6 +222,19 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
       status_->finish(t_s);
     }
   });
+}
+
+void VirtualSensorNode::publishClock() {
+  if (!clock_publisher_) return;
+  // The newest sample of any sensor: every sample published so far has a stamp <= now, so a tool's
+  // delay (now - stamp) is never negative; a sensor fed later in the chain (the house) shows its lag.
+  double t_s = -1.0;
+  for (const auto& s : sensors_) t_s = std::max(t_s, s.latest_time_s);
+  if (!(t_s > clock_s_)) return;  // no sample yet, or no progress
+  clock_s_ = t_s;
+  rosgraph_msgs::Clock clock;
+  clock.clock = ros::Time(t_s);
+  clock_publisher_.publish(clock);
 }
 
 void VirtualSensorNode::publishSamples(Sensor& s, const std::vector<signal::SensorSample>& samples, size_t from) {
@@ -266,6 +291,9 @@ void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
     msg.third_octave_level_db.push_back(m.third_octave_running_db.size() > 2 ? m.third_octave_running_db[2][b] : 0.0);
   }
   msg.din4150_2_verdict = static_cast<uint8_t>(verdict.din4150_2.level);
+  msg.din4150_2_a_u = verdict.din4150_2.guide.a_u;
+  msg.din4150_2_a_o = verdict.din4150_2.guide.a_o;
+  msg.din4150_2_a_r = verdict.din4150_2.guide.a_r;
   msg.din4150_3_verdict = static_cast<uint8_t>(verdict.din4150_3.level);
   msg.verdict = static_cast<uint8_t>(verdict.level);
   s.metrics.publish(msg);

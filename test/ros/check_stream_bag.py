@@ -26,6 +26,14 @@ the DIN 4150-2, DIN 4150-3 and overall verdicts).
 
 With ~check_report, `scripts/report.py` on the bag exits 0 and writes a
 report.md with a row per configured sensor and its figures.
+
+With ~clock_sensor (a sensor name), the live graph runs on simulation time: /use_sim_time is set,
+/clock (published by the virtual sensors) only moves forward and ends at the last sensor sample's
+time, and the delay now - stamp of that sensor's live /sensors/<name>/velocity messages is never
+below minus one soil output block (a message may overtake its /clock only by thread scheduling)
+and has a median in [0, one block]. With ~check_scenario, the bag's /railvib/scenario record names
+the build (railvib_tool --version), the config file, and holds the resolved config with the
+scenario's duration; each sensor's standard topics hold one message per sample.
 """
 import csv
 import json
@@ -42,7 +50,10 @@ import unittest
 import rosbag
 import rospy
 import rostest
+from geometry_msgs.msg import Vector3Stamped
+from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
+import yaml
 
 TIME_MIN_NS = 1  # rosbag's ros::TIME_MIN: stamps at t = 0 are stored at 1 ns
 
@@ -60,9 +71,22 @@ class StreamBagTest(unittest.TestCase):
         self.check_metrics = rospy.get_param("~check_metrics", False)
         self.status = None
         rospy.Subscriber(rospy.get_param("~recorder_status"), String, self._on_status)
+        self.clock_s = []       # every /clock received, in order
+        self.delays_s = []      # now - stamp of each live velocity message of ~clock_sensor
+        self.clock_sensor = rospy.get_param("~clock_sensor", "")
+        if self.clock_sensor:
+            rospy.Subscriber("/clock", Clock, self._on_clock)
+            rospy.Subscriber(f"/sensors/{self.clock_sensor}/velocity", Vector3Stamped, self._on_velocity)
 
     def _on_status(self, msg):
         self.status = msg.data
+
+    def _on_clock(self, msg):
+        self.clock_s.append(msg.clock.to_sec())
+
+    def _on_velocity(self, msg):
+        if self.clock_s:
+            self.delays_s.append(self.clock_s[-1] - msg.header.stamp.to_sec())
 
     def wait_for_recorder(self):
         deadline = time.time() + float(rospy.get_param("~wait_s", 360.0))
@@ -101,6 +125,53 @@ class StreamBagTest(unittest.TestCase):
                                    rospy.get_param("~tram_frames"))
         if rospy.get_param("~check_report", False):
             self.check_report_of_the_bag()
+        if self.clock_sensor:
+            self.check_live_clock()
+        if rospy.get_param("~check_scenario", False):
+            self.check_scenario_record()
+
+    def check_live_clock(self):
+        self.assertTrue(rospy.get_param("/use_sim_time", False), "/use_sim_time is not set for the live graph")
+        self.assertGreater(len(self.clock_s), 10, "too few /clock messages")
+        self.assertTrue(all(b > a for a, b in zip(self.clock_s, self.clock_s[1:])), "/clock went backwards or stood")
+        with rosbag.Bag(self.bag_path) as bag:
+            samples, period = 0, None
+            for _, m, _ in bag.read_messages(topics=["/sensor_samples"]):
+                samples += m.sample_count
+                period = m.sample_period_s
+            block_s = max(m.sample_count * m.sample_period_s
+                          for _, m, _ in bag.read_messages(topics=["/surface_velocities"]))
+        self.assertAlmostEqual(self.clock_s[-1], (samples - 1) * period, delta=1e-9,
+                               msg="the last /clock is not the last sensor sample's time")
+        self.assertGreater(len(self.delays_s), samples // 2, "too few live velocity messages seen")
+        self.assertGreaterEqual(min(self.delays_s), -block_s - 1e-9)
+        median = sorted(self.delays_s)[len(self.delays_s) // 2]
+        print(f"live /clock: {len(self.clock_s)} messages to {self.clock_s[-1]:.4f} s; delay of "
+              f"/sensors/{self.clock_sensor}/velocity min {min(self.delays_s):.4f} median {median:.4f} "
+              f"max {max(self.delays_s):.4f} s over {len(self.delays_s)} messages (block {block_s} s)", flush=True)
+        self.assertTrue(0.0 <= median <= block_s + 1e-9, f"median delay {median} s, block {block_s} s")
+
+    def check_scenario_record(self):
+        tool = find_railvib_tool()
+        version = subprocess.run([tool, "--version"], capture_output=True, text=True).stdout.split()[-1]
+        with rosbag.Bag(self.bag_path) as bag:
+            records = [m for _, m, _ in bag.read_messages(topics=["/railvib/scenario"])]
+            info = bag.get_type_and_topic_info().topics
+            samples = sum(m.sample_count for _, m, _ in bag.read_messages(topics=["/sensor_samples"]))
+        self.assertEqual(len(records), 1, "one /railvib/scenario record")
+        record = yaml.safe_load(records[0].data)
+        self.assertEqual(record["railvib_version"], version)
+        self.assertEqual(record["config_file"], rospy.get_param("~config"))
+        self.assertAlmostEqual(record["config"]["simulation"]["duration_s"], self.duration_s, delta=1e-12)
+        for name, _ in self.configured_sensors():
+            for what, kind in (("imu", "sensor_msgs/Imu"), ("velocity", "geometry_msgs/Vector3Stamped"),
+                               ("metrics", "railvib/VibrationMetrics")):
+                topic = f"/sensors/{name}/{what}"
+                self.assertIn(topic, info, f"{topic} not recorded")
+                self.assertEqual(info[topic].msg_type, kind)
+                if what != "metrics":
+                    self.assertEqual(info[topic].message_count, samples, topic)
+        self.assertIn("/diagnostics", info)
 
     ARRAYS = {"/contact_forces": ["position_m", "force_n", "unevenness_m"], "/soil_loads": ["force_n"],
               "/surface_velocities": ["velocity_m_s"], "/building_response": ["velocity_m_s"],

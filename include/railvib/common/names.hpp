@@ -44,6 +44,9 @@ inline constexpr const char* kClockTopic = "/clock";
 /// std_msgs/String (JSON) the recorder writes into its bag when it closes it: the streams it was
 /// told to record, which of them are complete, and why it closed (scripts/bag_check.py reads it).
 inline constexpr const char* kRecordingStatusTopic = "/railvib/recording";
+/// std_msgs/String (YAML), latched and written first into the bag by the recorder: what produced
+/// the run (railvib version, command line, config file, launch arguments, resolved config).
+inline constexpr const char* kScenarioTopic = "/railvib/scenario";
 inline constexpr const char* kSiteMarkersTopic = "visualization/site";
 inline constexpr const char* kSurfaceCloudTopic = "visualization/surface_velocity";
 /// Per-sensor topics: sensors/<name>/imu, .../velocity, .../metrics.

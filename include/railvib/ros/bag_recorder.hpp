@@ -36,7 +36,10 @@ class BagRecorder {
  public:
   /// Parameters (private): ~bag_path (must not exist), ~streams (list), ~topics (list,
   /// header-stamped), ~tf_topics (list of tf2_msgs/TFMessage topics), ~compression (lz4|none),
-  /// ~linger_s, ~min_free_mb (default 2).
+  /// ~linger_s, ~min_free_mb (default 2), ~sensor_topics (default false: also record every configured
+  /// virtual sensor's sensors/<name>/{imu,velocity,metrics}; ~use_building false leaves out the house
+  /// sensors). With /railvib/config_file set, the scenario record (names::kScenarioTopic) is written
+  /// first into the bag and published latched.
   BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   ~BagRecorder();
 
@@ -79,7 +82,7 @@ class BagRecorder {
   ros::Time latest_stamp_;
   std::map<std::string, TopicState> topics_;
   std::vector<ros::Subscriber> subscribers_;
-  ros::Publisher status_publisher_, diagnostics_publisher_;
+  ros::Publisher status_publisher_, diagnostics_publisher_, scenario_publisher_;
 };
 
 }  // namespace railvib::ros_io

@@ -26,6 +26,12 @@ std::vector<std::string> launchArgumentOverrides(const std::vector<std::pair<std
 /// Load and validate the scenario config; throws ConfigError (the node logs it and exits non-zero).
 Config loadNodeConfig(ros::NodeHandle& nh);
 
+/// What produced this run, as YAML for the bag (names::kScenarioTopic): railvib version (git describe),
+/// the command line (/railvib/command_line, set by the launch file from $RAILVIB_COMMAND_LINE), the
+/// config file, the launch arguments and direct overrides, the host and wall time, and the resolved
+/// configuration (after includes and overrides) under `config`.
+std::string scenarioRecordYaml(ros::NodeHandle& nh, const Config& config);
+
 /// The node cannot start: FATAL line, ERROR on /diagnostics (latched, given a moment to go out).
 void reportStartFailure(const std::string& node, const std::string& message);
 

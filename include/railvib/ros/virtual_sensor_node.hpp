@@ -30,7 +30,8 @@ namespace railvib::ros_io {
 class VirtualSensorNode {
  public:
   /// Private parameters: ~use_building (default true), ~required_subscribers (sensor_samples, default 1),
-  /// ~block_samples (sensor_samples block length, default 100).
+  /// ~block_samples (sensor_samples block length, default 100), ~publish_clock (default false: publish
+  /// /clock at the newest sample any sensor has emitted, for a live graph run with /use_sim_time).
   VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   /// True after an error (gap in a stream, unknown point...); the node has shut ROS down.
   bool failed() const { return status_->failed(); }
@@ -52,7 +53,9 @@ class VirtualSensorNode {
     int point_index = -1;
     ros::Publisher imu, velocity, metrics;
     std::vector<signal::SensorSample> pending;  // emitted, not yet in a sensor_samples block
+    std::vector<signal::SensorSample> fresh;    // emitted by the block being handled
     uint64_t published = 0;
+    double latest_time_s = -1.0;  // time of the newest emitted sample (-1: none yet)
   };
   struct Source {
     std::string name;
@@ -71,6 +74,7 @@ class VirtualSensorNode {
   void publishMetrics(Sensor& s, double time_s);
   void publishBlocks(bool end_of_stream);
   void restartPass(Source& source);
+  void publishClock();
 
   signal::VirtualSensorConfig config_;
   StreamLimits limits_;
@@ -80,6 +84,8 @@ class VirtualSensorNode {
   BlockPublisher<railvib::SensorSamples> samples_publisher_;
   ros::Publisher diagnostics_publisher_;
   ros::Publisher all_metrics_publisher_;
+  ros::Publisher clock_publisher_;  // only with ~publish_clock
+  double clock_s_ = -1.0;           // last /clock published
   size_t block_samples_ = 100;
   uint64_t next_block_index_ = 0;
   uint64_t metrics_every_ = 100;
