@@ -10,15 +10,19 @@
 
 namespace railvib::building {
 
-void writeVtk(const BuildingModel& model, const std::vector<Mode>& modes, const std::string& path) {
+void writeVtk(const BuildingModel& model, const std::vector<Mode>& modes, const std::string& path,
+              const ExportFrame& frame) {
   const BuildingMesh& mesh = model.mesh();
   io::AtomicFile file(path);
   std::ostream& os = file.stream();
   os << std::setprecision(9);
-  os << "# vtk DataFile Version 3.0\nrailvib building model and mode shapes (building frame, m)\nASCII\n"
-        "DATASET UNSTRUCTURED_GRID\n";
+  os << "# vtk DataFile Version 3.0\nrailvib building model and mode shapes (frame " << frame.frame_name
+     << ", m)\nASCII\nDATASET UNSTRUCTURED_GRID\n";
   os << "POINTS " << mesh.nodes.size() << " double\n";
-  for (const auto& x : mesh.nodes) os << x.x() << " " << x.y() << " " << x.z() << "\n";
+  for (const auto& node : mesh.nodes) {
+    const Eigen::Vector3d x = node + frame.offset_m;
+    os << x.x() << " " << x.y() << " " << x.z() << "\n";
+  }
   os << "CELLS " << mesh.elements.size() << " " << 5 * mesh.elements.size() << "\n";
   for (const auto& e : mesh.elements)
     os << "4 " << e.nodes[0] << " " << e.nodes[1] << " " << e.nodes[2] << " " << e.nodes[3] << "\n";

@@ -10,6 +10,7 @@
 #include "railvib/building/modal.hpp"
 #include "railvib/building/model.hpp"
 #include "railvib/building/response.hpp"
+#include "railvib/common/site.hpp"
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/io/csv.hpp"
 #include "tool_common.hpp"
@@ -41,6 +42,7 @@ int runModes(const std::vector<std::string>& args) {
   addConfigOptions(parser);
   parser.option("fmax", "highest frequency (Hz)", "50");
   parser.option("vtk", "directory for building_modes.vtk (mesh + mode shapes)");
+  parser.option("vtk-frame", "frame of the VTK points: track (the site, beside the soil exports) or building", "track");
   parser.option("inp", "write an Abaqus/CalculiX .inp file of the model (fixed base, *FREQUENCY step)");
   parser.option("ccx-dat", "CalculiX .dat result of the --inp model: its frequencies are compared with ours");
   parser.flag("refine", "also run a mesh refinement study (element size x2, x1, x1/2)");
@@ -82,8 +84,18 @@ int runModes(const std::vector<std::string>& args) {
   if (parser.has("vtk")) {
     std::filesystem::create_directories(parser.get("vtk"));
     const std::string path = (std::filesystem::path(parser.get("vtk")) / "building_modes.vtk").string();
-    writeVtk(model, res.modes, path);
+    ExportFrame frame;
+    frame.frame_name = parser.get("vtk-frame");
+    if (frame.frame_name == "track") {
+      const BuildingPlacement placement = loadBuildingPlacement(config.root());
+      frame.offset_m = Eigen::Vector3d(placement.origin_x_m, placement.origin_y_m, 0.0);
+    } else if (frame.frame_name != "building") {
+      throw ArgError("building-modes: --vtk-frame must be track or building, not '" + frame.frame_name + "'");
+    }
+    writeVtk(model, res.modes, path, frame);
     out["vtk"] = path;
+    out["vtk_frame"] = frame.frame_name;
+    out["vtk_offset_m"] = {frame.offset_m.x(), frame.offset_m.y(), frame.offset_m.z()};
   }
   if (parser.has("inp")) {
     writeInp(model, static_cast<int>(std::min<size_t>(res.modes.size(), 30)), parser.get("inp"));

@@ -1,0 +1,329 @@
+#!/usr/bin/env python3
+"""railvib export: a recorded scenario bag as files other tools open.
+
+usage: ./railvib export BAG [OUTDIR] [--what csv,mat,vtk,house] [--every N]
+
+Writes into OUTDIR (default: BAG without .bag + "_export"):
+  csv/<stream>.csv      one row per sample, one column per channel (t_s first), for Excel or MATLAB:
+                          contact_forces      wheel<k>_position_m, wheel<k>_force_n, wheel<k>_unevenness_m
+                          soil_loads          sleeper<k>_force_n (positions in csv/sleeper_layout.csv)
+                          surface_velocities  <receiver>_v{x,y,z}_m_s (positions in csv/surface_points.csv)
+                          building_response   <point>_v{x,y,z}_m_s (positions in csv/building_points.csv)
+                          sensor_samples      <sensor>_v{x,y,z}_m_s, <sensor>_a{x,y,z}_m_s2
+  railvib.mat           the same streams as MATLAB structs (scipy.io.savemat, MAT 5): per stream
+                          t_s [samples x 1], the arrays [samples x channels (x 3)] and the names
+  vtk/surface.pvd       the soil surface's vertical velocity as a VTK time series (one ImageData
+                          file per /surface_snapshot, frame track, m and m/s) that ParaView opens
+  vtk/section.pvd       the vertical section (/section_snapshot) as StructuredGrid files, z up
+  vtk/building_modes.vtk  the house mesh and its fixed-base mode shapes in frame track
+                          (railvib_tool building-modes on the scenario recorded in the bag)
+--every N keeps every N-th snapshot (default 1: all). Streams the bag lacks are skipped and said so.
+Exit code 0, 1 if the bag's run is incomplete (exported as far as it goes), 2 if the bag is refused.
+"""
+import argparse
+import csv
+import pathlib
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+import bag_check
+import railvib_names as names
+import report
+from railvib_paths import find_railvib_tool
+
+try:
+    import rosbag
+    import yaml
+except ImportError:  # pragma: no cover
+    sys.exit("railvib export: python3-rosbag and python3-yaml are required (./railvib setup installs them)")
+
+AXES = ("x", "y", "z")
+
+
+def die(msg, code=2):
+    print("railvib export: error: " + msg, file=sys.stderr)
+    sys.exit(code)
+
+
+def say(msg):
+    print("railvib export: " + msg)
+
+
+class Stream:
+    """One stream's samples: time, named channel columns, and the arrays for the .mat file."""
+
+    def __init__(self, topic, blocks):
+        self.topic = topic
+        self.name = topic.lstrip("/")
+        period = blocks[0].sample_period_s
+        count = sum(b.sample_count for b in blocks)
+        self.t_s = (blocks[0].first_sample_index + np.arange(count)) * period
+        self.columns = []  # (header, 1-D array)
+        self.arrays = {}   # for the .mat struct
+
+    def vector_columns(self, labels, values, unit_suffix, prefix="v"):
+        """values [sample, label, 3] -> <label>_<prefix>x_<unit> ... columns."""
+        for i, label in enumerate(labels):
+            for c, axis in enumerate(AXES):
+                self.columns.append((f"{label}_{prefix}{axis}_{unit_suffix}", values[:, i, c]))
+
+
+def layout_points(bag, topic):
+    point_names, positions = report.layout(bag, topic)
+    return point_names, positions
+
+
+def read_streams(bag):
+    """Every railvib stream of the bag as a Stream (skipping those it lacks), plus the layouts."""
+    streams, layouts = [], {}
+    cf = report.read_stream(bag, names.CONTACT_FORCES)
+    if cf:
+        s = Stream(names.CONTACT_FORCES, cf)
+        nw = cf[0].wheel_count
+        fields = {f: report.stacked(cf, f, nw) for f in ("position_m", "force_n", "unevenness_m")}
+        for w in range(nw):
+            for f, values in fields.items():
+                s.columns.append((f"wheel{w + 1}_{f}", values[:, w]))
+        s.arrays.update(fields)
+        streams.append(s)
+    sl = report.read_stream(bag, names.SOIL_LOADS)
+    if sl:
+        s = Stream(names.SOIL_LOADS, sl)
+        ns = sl[0].sleeper_count
+        force = report.stacked(sl, "force_n", ns)
+        for k in range(ns):
+            s.columns.append((f"sleeper{k + 1}_force_n", force[:, k]))
+        s.arrays["force_n"] = force
+        streams.append(s)
+        for _, m, _ in bag.read_messages(topics=[names.SLEEPER_LAYOUT]):
+            layouts["sleeper_layout"] = (["sleeper", "x_m"],
+                                         [(k + 1, x) for k, x in enumerate(m.position_m)])
+            s.arrays["sleeper_x_m"] = np.array(m.position_m)
+            break
+    for topic, layout_topic, count_field in ((names.SURFACE_VELOCITIES, names.SURFACE_POINTS, "receiver_count"),
+                                             (names.BUILDING_RESPONSE, names.BUILDING_POINTS, "point_count")):
+        blocks = report.read_stream(bag, topic)
+        if not blocks:
+            continue
+        n = getattr(blocks[0], count_field)
+        point_names, positions = layout_points(bag, layout_topic)
+        if point_names is None or len(point_names) != n:
+            say(f"{topic}: no matching {layout_topic} layout in the bag: points named by index")
+            point_names, positions = [f"point{k + 1}" for k in range(n)], None
+        s = Stream(topic, blocks)
+        v = report.stacked(blocks, "velocity_m_s", n, 3)
+        s.vector_columns(point_names, v, "m_s")
+        s.arrays["velocity_m_s"] = v
+        s.arrays["point_names"] = np.array(point_names, dtype=object)
+        streams.append(s)
+        if positions is not None:
+            layouts[layout_topic.lstrip("/")] = (["name", "x_m", "y_m", "z_m"],
+                                                 [(nm,) + tuple(p) for nm, p in zip(point_names, positions)])
+            s.arrays["point_position_m"] = np.array(positions)
+    ss = report.read_stream(bag, names.SENSOR_SAMPLES)
+    if ss:
+        s = Stream(names.SENSOR_SAMPLES, ss)
+        sensors = list(ss[0].sensor_names)
+        v = report.stacked(ss, "velocity_m_s", len(sensors), 3)
+        a = report.stacked(ss, "acceleration_m_s2", len(sensors), 3)
+        for i, sensor in enumerate(sensors):
+            for c, axis in enumerate(AXES):
+                s.columns.append((f"{sensor}_v{axis}_m_s", v[:, i, c]))
+            for c, axis in enumerate(AXES):
+                s.columns.append((f"{sensor}_a{axis}_m_s2", a[:, i, c]))
+        s.arrays.update({"velocity_m_s": v, "acceleration_m_s2": a, "sensor_names": np.array(sensors, dtype=object)})
+        streams.append(s)
+    return streams, layouts
+
+
+def write_csv(outdir, streams, layouts):
+    d = outdir / "csv"
+    d.mkdir(parents=True, exist_ok=True)
+    for s in streams:
+        path = d / f"{s.name}.csv"
+        table = np.column_stack([s.t_s] + [col for _, col in s.columns])
+        # 17 significant digits: the doubles of the bag, read back exactly.
+        np.savetxt(path, table, fmt="%.17g", delimiter=",", header=",".join(["t_s"] + [h for h, _ in s.columns]),
+                   comments="")
+        say(f"{path}: {len(s.t_s)} samples x {len(s.columns)} channels")
+    for name, (header, rows) in layouts.items():
+        with open(d / f"{name}.csv", "w", newline="") as f:
+            w = csv.writer(f, lineterminator="\n")
+            w.writerow(header)
+            w.writerows(rows)
+
+
+def write_mat(outdir, streams):
+    try:
+        import scipy.io
+    except ImportError:
+        die("--what mat needs python3-scipy (./railvib setup installs it)")
+    content = {}
+    for s in streams:
+        struct = {"t_s": s.t_s.reshape(-1, 1), "sample_period_s": float(s.t_s[1] - s.t_s[0]) if len(s.t_s) > 1 else 0.0}
+        struct.update(s.arrays)
+        content[s.name] = struct
+    path = outdir / "railvib.mat"
+    scipy.io.savemat(str(path), content, do_compression=True, long_field_names=True)
+    say(f"{path}: {', '.join(content)}")
+
+
+def data_array(parent, name, values, components=1):
+    da = ET.SubElement(parent, "DataArray", type="Float32", Name=name, NumberOfComponents=str(components),
+                       format="ascii")
+    da.text = " ".join(repr(float(x)) for x in np.asarray(values, dtype=np.float32).ravel())
+    return da
+
+
+def write_pvd(path, entries):
+    """ParaView's collection file: one DataSet per (time_s, relative file)."""
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    coll = ET.SubElement(root, "Collection")
+    for t, file in entries:
+        ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part="0", file=file)
+    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+
+
+def surface_file(path, m):
+    """One /surface_snapshot as VTK ImageData (x fastest, as the message; z = 0, the surface)."""
+    nx, ny = m.nx, m.ny
+    if len(m.vertical_velocity_m_s) != nx * ny or nx < 1 or ny < 1:
+        die(f"{names.SURFACE_SNAPSHOT}: snapshot {m.sample_index} has {len(m.vertical_velocity_m_s)} values "
+            f"for a {nx} x {ny} grid")
+    root = ET.Element("VTKFile", type="ImageData", version="0.1", byte_order="LittleEndian")
+    extent = f"0 {nx - 1} 0 {ny - 1} 0 0"
+    img = ET.SubElement(root, "ImageData", WholeExtent=extent, Origin=f"{m.origin_x_m!r} {m.origin_y_m!r} 0",
+                        Spacing=f"{m.spacing_x_m!r} {m.spacing_y_m!r} 1")
+    piece = ET.SubElement(img, "Piece", Extent=extent)
+    pd = ET.SubElement(piece, "PointData", Scalars="vertical_velocity_m_s")
+    data_array(pd, "vertical_velocity_m_s", m.vertical_velocity_m_s)
+    ET.SubElement(piece, "CellData")
+    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+
+
+def section_file(path, m):
+    """One /section_snapshot as VTK StructuredGrid on the plane x = x_m (y fastest, then depth; z = -depth)."""
+    ny, nz = m.ny, len(m.depth_m)
+    if len(m.vertical_velocity_m_s) != ny * nz or ny < 1 or nz < 1:
+        die(f"{names.SECTION_SNAPSHOT}: snapshot {m.sample_index} has {len(m.vertical_velocity_m_s)} values "
+            f"for {ny} columns x {nz} rows")
+    root = ET.Element("VTKFile", type="StructuredGrid", version="0.1", byte_order="LittleEndian")
+    extent = f"0 0 0 {ny - 1} 0 {nz - 1}"
+    grid = ET.SubElement(root, "StructuredGrid", WholeExtent=extent)
+    piece = ET.SubElement(grid, "Piece", Extent=extent)
+    y = m.origin_y_m + m.spacing_y_m * np.arange(ny)
+    points = np.array([(m.x_m, y[j], -m.depth_m[k]) for k in range(nz) for j in range(ny)])
+    data_array(ET.SubElement(piece, "Points"), "Points", points, 3)
+    pd = ET.SubElement(piece, "PointData", Scalars="vertical_velocity_m_s")
+    data_array(pd, "vertical_velocity_m_s", m.vertical_velocity_m_s)
+    ET.SubElement(piece, "CellData")
+    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+
+
+def write_vtk(outdir, bag, every):
+    d = outdir / "vtk"
+    d.mkdir(parents=True, exist_ok=True)
+    for topic, stem, writer, ext in ((names.SURFACE_SNAPSHOT, "surface", surface_file, "vti"),
+                                     (names.SECTION_SNAPSHOT, "section", section_file, "vts")):
+        entries = []
+        for k, (_, m, _) in enumerate(bag.read_messages(topics=[topic])):
+            if k % every:
+                continue
+            file = f"{stem}_{m.sample_index:05d}.{ext}"
+            writer(d / file, m)
+            entries.append((m.header.stamp.to_sec(), file))
+        if entries:
+            write_pvd(d / f"{stem}.pvd", entries)
+            say(f"{d / (stem + '.pvd')}: {len(entries)} snapshots, {entries[0][0]:.3f}-{entries[-1][0]:.3f} s")
+        else:
+            say(f"{topic}: not in the bag, no {stem}.pvd")
+
+
+def scenario_record(bag):
+    for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
+        try:
+            record = yaml.safe_load(m.data)
+        except yaml.YAMLError as e:
+            die(f"{names.SCENARIO}: not YAML: {e}")
+        if not isinstance(record, dict):
+            die(f"{names.SCENARIO}: not a map")
+        return record
+    return None
+
+
+def write_house(outdir, record):
+    """The house mesh and mode shapes in frame track, from the scenario the bag records."""
+    if record is None or not isinstance(record.get("config"), dict):
+        say(f"no {names.SCENARIO} record in the bag (older railvib): no house export")
+        return
+    if "building" not in record["config"]:
+        say("the recorded scenario has no house: no building_modes.vtk")
+        return
+    exe = find_railvib_tool()
+    if not exe:
+        die("railvib_tool not found: build with ./railvib setup")
+    d = outdir / "vtk"
+    d.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+        yaml.safe_dump(record["config"], f)
+        config_path = f.name
+    out = subprocess.run([exe, "building-modes", "--config", config_path, "--vtk", str(d), "--vtk-frame", "track"],
+                         capture_output=True, text=True)
+    pathlib.Path(config_path).unlink()
+    if out.returncode != 0:
+        die(f"railvib_tool building-modes failed: {out.stderr.strip()}", code=1)
+    say(f"{d / 'building_modes.vtk'}: the house and its fixed-base modes, frame track")
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(prog="./railvib export", description=__doc__.split("\n")[0])
+    parser.add_argument("bag")
+    parser.add_argument("outdir", nargs="?")
+    parser.add_argument("--what", default="csv,mat,vtk,house", help="comma-separated: csv, mat, vtk, house")
+    parser.add_argument("--every", type=int, default=1, help="keep every N-th snapshot in the VTK series")
+    options = parser.parse_args(argv[1:])
+    what = {w.strip() for w in options.what.split(",") if w.strip()}
+    unknown = what - {"csv", "mat", "vtk", "house"}
+    if unknown:
+        die("--what: unknown " + ", ".join(sorted(unknown)) + " (csv, mat, vtk, house)")
+    if options.every < 1:
+        die("--every must be >= 1")
+    bag_path = pathlib.Path(options.bag)
+    if not bag_path.exists():
+        die(f"no such bag: {bag_path}")
+    outdir = pathlib.Path(options.outdir) if options.outdir else bag_path.with_name(bag_path.stem + "_export")
+    checked = bag_check.check_bag(bag_path)
+    if checked.refused:
+        die(checked.refused)
+    for finding in checked.findings:
+        print("railvib export: " + finding, file=sys.stderr)
+    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        bag = rosbag.Bag(str(bag_path))
+    except Exception as e:  # rosbag raises several types for truncated or corrupt files
+        die(f"cannot read {bag_path}: {e}")
+    with bag:
+        if what & {"csv", "mat"}:
+            streams, layouts = read_streams(bag)
+            if "csv" in what:
+                write_csv(outdir, streams, layouts)
+            if "mat" in what:
+                write_mat(outdir, streams)
+        if "vtk" in what:
+            write_vtk(outdir, bag, options.every)
+        record = scenario_record(bag)
+    if "house" in what:
+        write_house(outdir, record)
+    if checked.incomplete:
+        print("railvib export: incomplete run, streams stopped early: " + ", ".join(checked.incomplete),
+              file=sys.stderr)
+        return 1
+    return 1 if checked.code else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

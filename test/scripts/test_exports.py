@@ -1,0 +1,328 @@
+#!/usr/bin/env python3
+"""Tests of the exports and the study driver (run by CTest in the workspace environment):
+
+- export.py: every sample of every stream is one CSV row with the bag's doubles read back exactly;
+  the .mat file holds the same arrays; the surface and section snapshots become VTK files whose grid
+  (origin, spacing, x-fastest order, z = -depth) and values are the messages', indexed by a .pvd
+  whose time steps are the snapshot stamps; a foreign bag is refused;
+- bag_check.py: a per-sensor topic that lost a message is a finding, one of another type is refused;
+- study.py: a grid is every combination; each run gets its launch arguments and a config file with
+  its dotted keys over the base; the table holds each run's recorded metrics; a failed run fails the
+  study and is named; bad keys and values are refused before any run.
+
+usage: test_exports.py [JUNIT_XML]
+"""
+import csv
+import json
+import math
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SCRIPTS = ROOT / "scripts"
+sys.path.insert(0, str(SCRIPTS))
+sys.path.insert(0, str(ROOT / "test" / "scripts"))
+import bag_check  # noqa: E402
+import railvib_names as names  # noqa: E402
+
+import rosbag  # noqa: E402
+import rospy  # noqa: E402
+import yaml  # noqa: E402
+from geometry_msgs.msg import Vector3Stamped  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
+import railvib.msg as rm  # noqa: E402
+
+WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_export_tests_"))
+FS_HZ, SAMPLES = 1000.0, 600
+SENSORS = ["ground_2m", "house_first_floor"]
+RECEIVERS = ["line_y1", "line_y8"]
+
+
+def velocity(k, point, c):
+    """A distinct, non-round value per sample, point and component (exact round trip is checked)."""
+    return 1e-3 * math.sin(0.0123 * k + point) * (c + 1) / 3.0
+
+
+def export_bag(path, per_sensor_messages=True, drop_one=False):
+    """Sensors and receivers at 1 kHz in blocks of 200, 3 surface and 3 section snapshots, a scenario record."""
+    with rosbag.Bag(str(path), "w") as bag:
+        t0 = rospy.Time(0, 1)
+        layout = rm.PointLayout()
+        layout.names = RECEIVERS
+        from geometry_msgs.msg import Point
+        layout.positions = [Point(0.0, 1.0, 0.0), Point(0.0, 8.0, 0.0)]
+        bag.write(names.SURFACE_POINTS, layout, t0)
+        for first in range(0, SAMPLES, 200):
+            stamp = rospy.Time.from_sec(first / FS_HZ) if first else t0
+            ss = rm.SensorSamples()
+            ss.header.stamp = stamp
+            ss.first_sample_index, ss.sample_count, ss.sample_period_s = first, 200, 1 / FS_HZ
+            ss.end_of_stream = first + 200 == SAMPLES
+            ss.sensor_count, ss.sensor_names = len(SENSORS), SENSORS
+            ss.velocity_m_s = [velocity(k, i, c) for k in range(first, first + 200) for i in range(2) for c in range(3)]
+            ss.acceleration_m_s2 = [10 * v for v in ss.velocity_m_s]
+            bag.write(names.SENSOR_SAMPLES, ss, stamp)
+            sv = rm.SurfaceVelocities()
+            sv.header.stamp = stamp
+            sv.first_sample_index, sv.sample_count, sv.sample_period_s = first, 200, 1 / FS_HZ
+            sv.end_of_stream = ss.end_of_stream
+            sv.receiver_count = 2
+            sv.velocity_m_s = [velocity(k, 5 + i, c) for k in range(first, first + 200) for i in range(2)
+                               for c in range(3)]
+            bag.write(names.SURFACE_VELOCITIES, sv, stamp)
+        if per_sensor_messages:
+            for i, sensor in enumerate(SENSORS):
+                for k in range(SAMPLES - (1 if drop_one and i == 1 else 0)):
+                    v = Vector3Stamped()
+                    v.header.stamp = rospy.Time.from_sec(k / FS_HZ) if k else t0
+                    v.vector.x, v.vector.y, v.vector.z = (velocity(k, i, c) for c in range(3))
+                    bag.write(names.sensor_topic(sensor, "velocity"), v, v.header.stamp)
+        for s in range(3):
+            stamp = rospy.Time.from_sec(0.1 * (s + 1))
+            snap = rm.SurfaceSnapshot()
+            snap.header.stamp = stamp
+            snap.sample_index = s
+            snap.origin_x_m, snap.origin_y_m, snap.spacing_x_m, snap.spacing_y_m = -2.0, 1.0, 0.5, 0.25
+            snap.nx, snap.ny = 5, 4
+            snap.vertical_velocity_m_s = [s + i + 10 * j for j in range(4) for i in range(5)]  # x fastest
+            bag.write(names.SURFACE_SNAPSHOT, snap, stamp)
+            sec = rm.SectionSnapshot()
+            sec.header.stamp = stamp
+            sec.sample_index, sec.x_m, sec.origin_y_m, sec.spacing_y_m, sec.ny = s, 0.0, -3.0, 1.5, 3
+            sec.depth_m = [0.0, 0.5, 1.5]
+            sec.vertical_velocity_m_s = [s + j + 100 * r for r in range(3) for j in range(3)]  # y fastest
+            bag.write(names.SECTION_SNAPSHOT, sec, stamp)
+        for sensor in SENSORS:
+            m = rm.VibrationMetrics()
+            m.header.stamp = rospy.Time.from_sec((SAMPLES - 1) / FS_HZ)
+            m.sensor_name = sensor
+            bag.write(names.SENSOR_METRICS, m, m.header.stamp)
+        bag.write(names.SCENARIO, String(data=yaml.safe_dump({"railvib_version": "test", "config": {"soil": {}}})), t0)
+        status = {"status": "closed: all streams complete",
+                  "expected_streams": [names.SURFACE_VELOCITIES, names.SENSOR_SAMPLES]}
+        bag.write(names.RECORDING_STATUS, String(data=json.dumps(status)), rospy.Time.from_sec(SAMPLES / FS_HZ))
+    return path
+
+
+def run_script(script, *args):
+    return subprocess.run([sys.executable, str(SCRIPTS / script)] + [str(a) for a in args],
+                          capture_output=True, text=True)
+
+
+class Export(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.bag = export_bag(WORK / "export.bag")
+        cls.out = WORK / "export"
+        cls.result = run_script("export.py", cls.bag, cls.out, "--what", "csv,mat,vtk")
+
+    def test_it_succeeds(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr + self.result.stdout)
+
+    def test_every_sample_is_one_row_with_the_bag_values_exactly(self):
+        with open(self.out / "csv" / "sensor_samples.csv") as f:
+            rows = list(csv.reader(f))
+        header = rows[0]
+        self.assertEqual(header[:4], ["t_s", "ground_2m_vx_m_s", "ground_2m_vy_m_s", "ground_2m_vz_m_s"])
+        self.assertEqual(len(header), 1 + len(SENSORS) * 6)
+        self.assertEqual(len(rows) - 1, SAMPLES)
+        col = header.index("house_first_floor_vz_m_s")
+        acol = header.index("house_first_floor_az_m_s2")
+        for k in (0, 1, 199, 200, 377, SAMPLES - 1):
+            self.assertEqual(float(rows[k + 1][0]), k / FS_HZ)
+            self.assertEqual(float(rows[k + 1][col]), velocity(k, 1, 2))
+            self.assertEqual(float(rows[k + 1][acol]), 10 * velocity(k, 1, 2))
+        with open(self.out / "csv" / "surface_velocities.csv") as f:
+            rows = list(csv.reader(f))
+        col = rows[0].index("line_y8_vy_m_s")
+        self.assertEqual(float(rows[451][col]), velocity(450, 6, 1))
+        with open(self.out / "csv" / "surface_points.csv") as f:
+            self.assertEqual(list(csv.reader(f))[2], ["line_y8", "0.0", "8.0", "0.0"])
+
+    def test_the_mat_file_holds_the_same_arrays(self):
+        import scipy.io
+        mat = scipy.io.loadmat(str(self.out / "railvib.mat"), squeeze_me=True, struct_as_record=False)
+        ss = mat["sensor_samples"]
+        self.assertEqual(ss.velocity_m_s.shape, (SAMPLES, len(SENSORS), 3))
+        self.assertEqual(ss.velocity_m_s[377, 1, 2], velocity(377, 1, 2))
+        self.assertEqual(list(ss.sensor_names), SENSORS)
+        self.assertAlmostEqual(ss.t_s[-1], (SAMPLES - 1) / FS_HZ, places=15)
+        self.assertEqual(mat["surface_velocities"].velocity_m_s[450, 1, 1], velocity(450, 6, 1))
+
+    def test_the_surface_series_is_vtk_image_data_at_the_snapshot_times(self):
+        pvd = ET.parse(self.out / "vtk" / "surface.pvd").getroot()
+        self.assertEqual(pvd.get("type"), "Collection")
+        sets = pvd.find("Collection").findall("DataSet")
+        self.assertEqual([float(d.get("timestep")) for d in sets], [0.1, 0.2, 0.3])
+        for s, d in enumerate(sets):
+            img = ET.parse(self.out / "vtk" / d.get("file")).getroot()
+            self.assertEqual(img.get("type"), "ImageData")
+            grid = img.find("ImageData")
+            self.assertEqual(grid.get("WholeExtent"), "0 4 0 3 0 0")
+            self.assertEqual([float(x) for x in grid.get("Origin").split()], [-2.0, 1.0, 0.0])
+            self.assertEqual([float(x) for x in grid.get("Spacing").split()][:2], [0.5, 0.25])
+            values = [float(x) for x in grid.find("Piece/PointData/DataArray").text.split()]
+            # VTK's point order is x fastest: point (i, j) is values[i + 5 j].
+            self.assertEqual(values[3 + 5 * 2], s + 3 + 10 * 2)
+
+    def test_the_section_series_is_a_structured_grid_with_z_up(self):
+        sets = ET.parse(self.out / "vtk" / "section.pvd").getroot().find("Collection").findall("DataSet")
+        self.assertEqual(len(sets), 3)
+        grid = ET.parse(self.out / "vtk" / sets[2].get("file")).getroot().find("StructuredGrid")
+        self.assertEqual(grid.get("WholeExtent"), "0 0 0 2 0 2")
+        points = np.array([float(x) for x in grid.find("Piece/Points/DataArray").text.split()]).reshape(-1, 3)
+        values = [float(x) for x in grid.find("Piece/PointData/DataArray").text.split()]
+        # Point (j = 1, row r = 2): y = -3 + 1.5, z = -1.5 (depth 1.5 m), value 2 + 1 + 200.
+        p = 1 + 3 * 2
+        self.assertEqual(list(points[p]), [0.0, -1.5, -1.5])
+        self.assertEqual(values[p], 2 + 1 + 200)
+
+    def test_a_foreign_bag_is_refused(self):
+        foreign = WORK / "foreign.bag"
+        with rosbag.Bag(str(foreign), "w") as bag:
+            bag.write("/chatter", String(data="hi"), rospy.Time(1))
+        out = run_script("export.py", foreign, WORK / "foreign_out")
+        self.assertEqual(out.returncode, 2)
+        self.assertIn("not a railvib bag", out.stderr)
+        self.assertNotIn("Traceback", out.stderr)
+
+
+class SensorTopics(unittest.TestCase):
+    def test_a_lost_per_sensor_message_is_a_finding(self):
+        whole = bag_check.check_bag(export_bag(WORK / "whole.bag"))
+        self.assertEqual(whole.code, 0, whole.findings)
+        lossy = bag_check.check_bag(export_bag(WORK / "lossy.bag", drop_one=True))
+        self.assertEqual(lossy.code, 1)
+        self.assertTrue(any("/sensors/house_first_floor/velocity: 599 messages for the 600 samples" in f
+                            for f in lossy.findings), lossy.findings)
+
+    def test_a_per_sensor_topic_of_another_type_is_refused(self):
+        path = WORK / "wrongtype.bag"
+        shutil.copy(export_bag(WORK / "base.bag", per_sensor_messages=False), path)
+        with rosbag.Bag(str(path), "a") as bag:
+            bag.write(names.sensor_topic("ground_2m", "velocity"), String(data="x"), rospy.Time(1))
+        r = bag_check.check_bag(path)
+        self.assertIn("geometry_msgs/Vector3Stamped", r.refused or "")
+
+
+FAKE_RUNNER = '''#!/usr/bin/env python3
+# Stands in for ./railvib run: records its arguments and writes a bag of sensor metrics that
+# depend on them (PPV = speed x 1e-4 m/s; KB_Fmax = 1000 x defect height from its config file).
+import json, sys, pathlib, yaml, rosbag, rospy
+import railvib.msg as rm
+args = dict(a.split(":=", 1) for a in sys.argv[2:])
+pathlib.Path(args["bag"]).with_name("argv.json").write_text(json.dumps(sys.argv[1:]))
+config = yaml.safe_load(open(args["config"]))
+height = config.get("unevenness", {}).get("defect", {}).get("height_m", 1.0e-3)
+speed = float(args.get("speed", "8.33"))
+if speed == 99:
+    sys.exit(1)
+with rosbag.Bag(args["bag"], "w") as bag:
+    for name, scale in (("ground_2m", 1.0), ("ground_8m", 0.25)):
+        m = rm.VibrationMetrics()
+        m.header.stamp = rospy.Time(1)
+        m.sensor_name = name
+        m.ppv_m_s = speed * 1e-4 * scale
+        m.governing_ppv_m_s = m.ppv_m_s
+        m.governing_component = 2
+        m.dominant_frequency_hz = 30.0
+        m.din4150_3_limit_m_s = 0.01
+        m.kb_f_max = 1000 * height * scale
+        m.din4150_2_verdict = 1 if m.kb_f_max > 0.3 else 0
+        bag.write("/sensor_metrics", m, rospy.Time(1))
+'''
+
+
+class Study(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.runner = WORK / "fake_run.py"
+        cls.runner.write_text(FAKE_RUNNER)
+
+    def study(self, out, *args):
+        return run_script("study.py", "--runner", f"{sys.executable} {self.runner}", "--outdir", out, *args)
+
+    def test_a_grid_runs_every_combination_and_tabulates_the_recorded_metrics(self):
+        out = WORK / "grid"
+        r = self.study(out, "--vary", "speed=5,10", "--vary", "unevenness.defect.height_m=0.5e-3,2e-3",
+                       "--arg", "duration:=3.0", "--jobs", "2")
+        self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
+        self.assertIn("[4/4]", r.stdout)
+        self.assertIn("ETA", r.stdout)
+        with open(out / "study.csv") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 4 * 2)  # 4 runs x 2 sensors
+        seen = set()
+        for row in rows:
+            speed, height = float(row["speed"]), float(row["unevenness.defect.height_m"])
+            seen.add((speed, height))
+            scale = 1.0 if row["sensor"] == "ground_2m" else 0.25
+            self.assertAlmostEqual(float(row["ppv_mm_s"]), speed * 0.1 * scale, places=12)
+            self.assertAlmostEqual(float(row["kb_f_max"]), 1000 * height * scale, places=12)
+            self.assertEqual(row["status"], "ok")
+        self.assertEqual(seen, {(5.0, 5e-4), (5.0, 2e-3), (10.0, 5e-4), (10.0, 2e-3)})
+        # Each run: its launch arguments, and a config file with its dotted keys over the base.
+        for run_dir in sorted(out.glob("run_*")):
+            argv = json.loads((run_dir / "argv.json").read_text())
+            self.assertEqual(argv[0], "haren")
+            self.assertIn("duration:=3.0", argv)
+            config = yaml.safe_load((run_dir / "config.yaml").read_text())
+            self.assertEqual(config["include"], [str(ROOT / "config" / "haren.yaml")])
+            self.assertIn(config["unevenness"]["defect"]["height_m"], (5e-4, 2e-3))
+        md = (out / "study.md").read_text()
+        self.assertIn("| speed | unevenness.defect.height_m |", md)
+        for figure in ("study_speed.png", "study_unevenness_defect_height_m.png"):
+            self.assertGreater((out / figure).stat().st_size, 10000)
+
+    def test_a_failed_run_fails_the_study_and_is_named(self):
+        out = WORK / "failed"
+        r = self.study(out, "--vary", "speed=5,99")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("1 run(s) failed: speed=99", r.stdout)
+        with open(out / "study.csv") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([row["status"] for row in rows if row["speed"] == "99"], ["failed"])
+
+    def test_bad_keys_and_values_are_refused_before_any_run(self):
+        for args, message in ((["--vary", "sped=1,2"], "neither a launch argument"),
+                              (["--set", "soil..mesh=1"], "dotted words"),
+                              (["--set", "simulation.speed_m_s=[1, 2]"], "one plain value"),
+                              (["--vary", "speed="], "KEY=V1,V2")):
+            out = WORK / "refused"
+            r = self.study(out, *args)
+            self.assertEqual(r.returncode, 2, args)
+            self.assertIn(message, r.stderr, args)
+            self.assertFalse(list(out.glob("run_*")), args)
+
+
+CLASSES = (Export, SensorTopics, Study)
+
+
+def write_junit(result, path):
+    suite = ET.Element("testsuite", name="export_tests", tests=str(result.testsRun))
+    failed = {t.id(): m for t, m in result.failures + result.errors}
+    for cls in CLASSES:
+        for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
+            case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
+            if test.id() in failed:
+                ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
+    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+
+
+if __name__ == "__main__":
+    suite = unittest.TestSuite()
+    for cls in CLASSES:
+        suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
+    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    if len(sys.argv) > 1:
+        write_junit(result, sys.argv[1])
+    shutil.rmtree(WORK, ignore_errors=True)
+    sys.exit(0 if result.wasSuccessful() else 1)
