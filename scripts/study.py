@@ -56,6 +56,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 # own structural ones; anything else with no dot is refused.
 LAUNCH_ARGUMENTS = {"speed", "foundation", "duration", "track", "coupling", "vehicle", "building", "sim_time"}
 VERDICT = {0: "OK", 1: "WARN", 2: "ERROR"}
+UNITS = {"speed": "m/s", "duration": "s"}  # launch arguments; config keys carry their unit in the name
 COMPONENTS = ("x", "y", "z")
 FIRST_PORT = 11411  # masters of concurrent runs: FIRST_PORT + job slot
 
@@ -301,7 +302,7 @@ def plot_against(outdir, rows, keys):
             axes[0].plot(x, [r["ppv_mm_s"] for _, r in points], "o-", label=label)
             axes[1].plot(x, [r["kb_f_max"] for _, r in points], "o-", label=label)
         for ax, ylabel in zip(axes, ("PPV [mm/s]", "KB_Fmax [-]")):
-            ax.set_xlabel(key)
+            ax.set_xlabel(key + (f" [{UNITS[key]}]" if key in UNITS else ""))
             ax.set_ylabel(ylabel)
             ax.grid(alpha=0.3)
             if not numeric:
