@@ -1,7 +1,15 @@
 #!/usr/bin/env python3
-"""railvib compare: the house's effect on the soil, from two bags of the same scenario (paper Figs. 15, 16).
+"""railvib compare: two runs side by side; for a one-way and a two-way run, the house's effect on the soil
+(paper Figs. 15, 16).
 
-usage: ./railvib compare FREE_BAG HOUSE_BAG [OUTDIR] [--at T ...] [--window S] [--config FILE] [--set key=value ...]
+usage: ./railvib compare BAG_A BAG_B [OUTDIR] [--at T ...] [--window S] [--config FILE] [--set key=value ...]
+
+Any two runs (e.g. two speeds, CLM vs Winkler, a study's runs): when either bag has no house, OUTDIR
+(default: BAG_B without .bag + "_vs_" + BAG_A's name) gets
+  sensors.png   each sensor both runs have: v_z of A and B, its Fourier transform magnitude and KB_F(t);
+  compare.md    per sensor and run: PPV_z, vector PPV, KB_Fmax, dominant frequency of v_z (from
+                `railvib_tool metrics`, the core's code), and B - A, B / A; compare.json the same.
+When both have the house, the house's effect (FREE_BAG = A, HOUSE_BAG = B):
 
 FREE_BAG:  a run whose soil does not see the house (building.coupling: one_way; its receiver at the
            house's response point is the free field without the house, and its house is driven by it);
@@ -9,7 +17,8 @@ HOUSE_BAG: the same run with building.coupling: two_way (the foundation and the 
 
 Writes into OUTDIR (default: HOUSE_BAG without .bag + "_vs_free_field"):
   floors_vs_free_field.png  ground and first floor, side by side with the free field: vertical velocity,
-                            its amplitude spectrum and KB_F(t) of the vertical component (DIN 4150-2,
+                            its Fourier transform magnitude in (mm/s)/Hz (report.spectrum, the report's
+                            range and mesh marker) and KB_F(t) of the vertical component (DIN 4150-2,
                             from `railvib_tool metrics`, the core's code);
   section_snapshots.png     the paper's Fig. 16: vertical velocity on the vertical plane perpendicular to
                             the track through the defect and the house (/section_snapshot), without and
@@ -54,6 +63,82 @@ def die(msg):
     sys.exit("railvib compare: error: " + msg)
 
 
+class SensorRun:
+    """The virtual sensors of any railvib bag (the two-run comparison)."""
+
+    def __init__(self, path):
+        checked = bag_check.check_bag(path)
+        if checked.refused:
+            die(f"{path}: {checked.refused}")
+        if checked.incomplete:
+            die(f"{path}: incomplete streams: {', '.join(checked.incomplete)}")
+        with rosbag.Bag(str(path)) as bag:
+            ss = report.read_stream(bag, names.SENSOR_SAMPLES)
+            if not ss:
+                die(f"{path}: no {names.SENSOR_SAMPLES} to compare")
+            self.sensors = list(ss[0].sensor_names)
+            self.v = report.stacked(ss, "velocity_m_s", len(self.sensors), 3)
+            self.dt = ss[0].sample_period_s
+            self.t = np.arange(len(self.v)) * self.dt
+            scenario, _ = report.scenario_record(bag)
+            self.mesh_f_max_hz = report.config_number((scenario or {}).get("config"), "soil.mesh.f_max_hz")
+
+    def has_house(self):
+        return all(f in self.sensors for f in FLOORS)
+
+
+def compare_sensors(a, b, name_a, name_b, outdir):
+    """Each common sensor of runs a and b: figure, Markdown table and JSON of the metric differences."""
+    common = [s for s in a.sensors if s in b.sensors]
+    if not common:
+        die(f"the runs have no sensor in common ({', '.join(a.sensors)} / {', '.join(b.sensors)})")
+    fig, axes = plt.subplots(len(common), 3, figsize=(15, 2.8 * len(common)), squeeze=False)
+    rows = {}
+    mesh = [m for m in (a.mesh_f_max_hz, b.mesh_f_max_hz) if m is not None]
+    for i, sensor in enumerate(common):
+        results = {}
+        for run, label, colour, tag in ((a, name_a, "C0", "a"), (b, name_b, "C3", "b")):
+            v = run.v[:, run.sensors.index(sensor), :]
+            summary, kbf, _ = metrics(run.t, v, outdir, f"{sensor}_{tag}")
+            results[tag] = summary
+            axes[i][0].plot(run.t, v[:, 2] * 1e3, color=colour, lw=0.6, label=label)
+            fr, amp = report.spectrum(run.t, v[:, 2] * 1e3)
+            axes[i][1].plot(fr, amp, color=colour, lw=0.7, label=label)
+            axes[i][2].plot(kbf["t_s"], kbf["kb_f_vz"], color=colour, lw=0.8, label=label)
+        report.spectrum_axes(axes[i][1], report.spectrum_range_hz(1.0 / a.dt, 1.0 / b.dt), min(mesh) if mesh else None)
+        axes[i][0].set_ylabel(f"{sensor}\nv_z [mm/s]")
+        axes[i][2].set_ylabel("KB_F(t) of v_z [-]")
+        for ax, xl in zip(axes[i], ("time [s]", "frequency [Hz]", "time [s]")):
+            ax.set_xlabel(xl)
+            ax.grid(alpha=0.3)
+        axes[i][0].legend(fontsize=7, loc="upper right")
+
+        def figures_of(summary):
+            vz = summary["din4150_3"]["components"][2]
+            return {"ppv_z_mm_s": vz["ppv_mm_s"], "vector_ppv_mm_s": summary["din4150_3"]["vector_peak_mm_s"],
+                    "kb_fmax": summary["din4150_2"]["kb_fmax"], "dominant_frequency_z_hz": vz["dominant_frequency_hz"]}
+        rows[sensor] = {"a": figures_of(results["a"]), "b": figures_of(results["b"])}
+    fig.suptitle(f"{name_b} (red) against {name_a} (blue)")
+    fig.tight_layout()
+    fig.savefig(outdir / "sensors.png", dpi=110)
+    plt.close(fig)
+    lines = [f"# railvib: `{name_b}` (B) against `{name_a}` (A)", "",
+             "Per sensor: PPV of v_z, vector PPV, KB_Fmax (DIN 4150-2) and the dominant frequency of v_z, from "
+             "`railvib_tool metrics` on each run's recorded samples (the core's code).", "",
+             "| sensor | quantity | A | B | B - A | B / A |", "|---|---|---|---|---|---|"]
+    for sensor, r in rows.items():
+        for q in ("ppv_z_mm_s", "vector_ppv_mm_s", "kb_fmax", "dominant_frequency_z_hz"):
+            x, y = r["a"][q], r["b"][q]
+            ratio = f"{y / x:.3f}" if x else "-"
+            lines.append(f"| {sensor} | {q} | {x:.4g} | {y:.4g} | {y - x:+.4g} | {ratio} |")
+    lines += ["", "![sensors](sensors.png)"]
+    (outdir / "compare.md").write_text("\n".join(lines) + "\n")
+    (outdir / "compare.json").write_text(json.dumps({"bag_a": name_a, "bag_b": name_b, "figures": ["sensors.png"],
+                                                     "sensors": rows}, indent=1))
+    print(f"railvib compare: {outdir / 'compare.md'} (sensors of two runs)")
+    return 0
+
+
 class Run:
     """The records of one bag that the comparison needs."""
 
@@ -88,6 +173,9 @@ class Run:
             self.soil_at_house = r[:n, points.index(names.BUILDING_RESPONSE_FREE_FIELD_POINT), :]
             house_y = [p[1] for name, p in zip(points, pos) if name.startswith("bldg_")]
             self.house_y = (min(house_y), max(house_y)) if house_y else None
+            # The soil mesh's resolved frequency, marked on the spectra (None for a bag without the record).
+            scenario, _ = report.scenario_record(bag)
+            self.mesh_f_max_hz = report.config_number((scenario or {}).get("config"), "soil.mesh.f_max_hz")
             self.section_t, self.section = [], []
             for _, m, _ in bag.read_messages(topics=[names.SECTION_SNAPSHOT]):
                 if len(m.vertical_velocity_m_s) != m.ny * len(m.depth_m):
@@ -137,9 +225,11 @@ def floors_figure(free, house, outdir):
             axes[row][1].plot(fr, amp, color=colour, lw=0.7, label=label)
             axes[row][2].plot(kbf["t_s"], kbf["kb_f_vz"], color=colour, lw=0.8, label=label)
         axes[row][0].set_ylabel(f"{floor.replace('house_', '').replace('_', ' ')}\nv_z [mm/s]")
-        axes[row][1].set_ylabel("|V_z| [mm/s] (Hann)")
         axes[row][2].set_ylabel("KB_F(t) of v_z [-]")
-        axes[row][1].set_xlim(0, 100)
+        # The report's spectrum conventions: one range, the mesh's resolved frequency marked.
+        mesh = [m for m in (free.mesh_f_max_hz, house.mesh_f_max_hz) if m is not None]
+        report.spectrum_axes(axes[row][1], report.spectrum_range_hz(1.0 / free.dt, 1.0 / house.dt),
+                             min(mesh) if mesh else None)
         for a, xl in zip(axes[row], ("time [s]", "frequency [Hz]", "time [s]")):
             a.set_xlabel(xl)
             a.grid(alpha=0.3)
@@ -243,6 +333,13 @@ def main(argv):
     if a.window <= 0 or not np.isfinite(a.window):
         die(f"--window {a.window}: must be a positive number of seconds")
     house_bag = pathlib.Path(a.house_bag)
+    run_a, run_b = SensorRun(a.free_bag), SensorRun(a.house_bag)
+    if not (run_a.has_house() and run_b.has_house()):
+        # Not a one-way / two-way pair: the two runs' sensors side by side.
+        outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(
+            house_bag.stem + "_vs_" + pathlib.Path(a.free_bag).stem)
+        outdir.mkdir(parents=True, exist_ok=True)
+        return compare_sensors(run_a, run_b, pathlib.Path(a.free_bag).name, house_bag.name, outdir)
     outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(house_bag.stem + "_vs_free_field")
     outdir.mkdir(parents=True, exist_ok=True)
     depth = foundation_depth_m(a.config, a.set)

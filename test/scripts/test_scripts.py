@@ -10,7 +10,11 @@
 - launch_scenario.py's verdict: only a run whose recorder ends first and cleanly passes;
 - compare.py: a house run whose soil, floors and section move at half the free run's shows
   -6.02 dB in every one-third-octave band and half the PPV (the metrics are linear in the record);
-  a bag without the house is refused with its name, without a traceback.
+  a bag without the house is refused with its name, without a traceback;
+- report.py's figures: a sine of amplitude A lasting T has a transform peak of A T / 2; the KB_F
+  lines are the live sensors' A_u / A_o (an older bag's: `railvib_tool din-guides` of the recorded
+  period); impact times are the wheels' defect crossings; the governing component is plotted; KB_FTr
+  is the tool's; scenario.yaml is the recorded config; a bag without the record still reports.
 
 usage: test_scripts.py [JUNIT_XML]
 """
@@ -101,7 +105,7 @@ class TestSummary(unittest.TestCase):
         for domain in registered:
             if list((ROOT / "test" / "unit" / domain).glob("*.cpp")):
                 self.assertIn(domain, test_summary.UNIT_DOMAINS, f"test/unit/{domain} is not an expected suite")
-        for stem in ("scenario-checks", "node-fuzz", "robustness-cases", "tool-commands", "script-tests"):
+        for stem in ("scenario-checks", "node-fuzz", "robustness-cases", "tool-commands", "script-tests", "export-tests", "monitor-tests"):
             self.assertIn(stem, cmake, f"{stem} is expected but CMakeLists.txt does not write it")
 
 
@@ -295,13 +299,27 @@ class Compare(unittest.TestCase):
         for b in loud:  # 20 log10(0.5) = -6.02 dB; levels are printed to 0.01 dB
             self.assertAlmostEqual(b["under_house_db"] - b["free_field_db"], -6.02, delta=0.011, msg=b)
 
-    def test_a_run_without_the_house_is_refused(self):
-        free = house_bag(WORK / "cmp_free2.bag", 1.0)
-        bare = house_bag(WORK / "cmp_bare.bag", 1.0, with_house=False)
-        out = self.run_compare(free, bare, WORK / "cmp_bare")
+    def test_two_runs_without_the_house_are_compared_sensor_by_sensor(self):
+        # Any two runs: the metrics are linear in the record, so half the motion halves PPV and KB_Fmax.
+        loud = house_bag(WORK / "cmp_loud.bag", 1.0, with_house=False)
+        quiet = house_bag(WORK / "cmp_quiet.bag", 0.5, with_house=False)
+        out = self.run_compare(loud, quiet, WORK / "cmp_runs")
+        self.assertEqual(out.returncode, 0, out.stderr)
+        result = json.loads((WORK / "cmp_runs" / "compare.json").read_text())
+        self.assertEqual(sorted(result["sensors"]), ["ground_2m", "ground_8m"])
+        for sensor, r in result["sensors"].items():
+            for q in ("ppv_z_mm_s", "vector_ppv_mm_s", "kb_fmax"):
+                self.assertAlmostEqual(r["b"][q] / r["a"][q], 0.5, places=9, msg=(sensor, q))
+            self.assertAlmostEqual(r["b"]["dominant_frequency_z_hz"], r["a"]["dominant_frequency_z_hz"], places=9)
+        self.assertGreater((WORK / "cmp_runs" / "sensors.png").stat().st_size, 10000)
+        self.assertIn("| ground_2m | ppv_z_mm_s |", (WORK / "cmp_runs" / "compare.md").read_text())
+
+    def test_a_bag_without_sensors_is_refused(self):
+        loud = house_bag(WORK / "cmp_loud2.bag", 1.0, with_house=False)
+        bare = track_bag(WORK / "cmp_track.bag", [contact(0, 10, True)], [loads(0, 10, True)])
+        out = self.run_compare(loud, bare, WORK / "cmp_bare")
         self.assertNotEqual(out.returncode, 0)
-        self.assertIn("a run with the house is needed", out.stderr)
-        self.assertIn("house_ground_floor", out.stderr)
+        self.assertIn("no /sensor_samples to compare", out.stderr)
         self.assertNotIn("Traceback", out.stderr)
 
 
@@ -325,10 +343,269 @@ class LaunchVerdict(unittest.TestCase):
         self.assertFalse(self.verdict([("track-3", None)])[0])
 
 
+# ------------------------------------------------------------------ report figures (issue #13)
+import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+# A synthetic Haren-like run: two wheels over a defect at x = 0.25 m, two sensors, a receiver line.
+REPORT_SPEED_M_S = 8.0
+REPORT_FRONT_START_M = -2.0
+REPORT_AXLE_OFFSETS_M = [0.0, 1.6]
+REPORT_DEFECT_M = 0.25
+# What yaml-cpp writes: 1e-05 (no dot) is a number for railvib, a string for YAML 1.1.
+REPORT_SCENARIO_TEXT = """railvib_version: test-1.2.3
+command_line: ./railvib run haren speed:=8.0
+config_file: /work/config/haren.yaml
+launch_arguments:
+  speed: "8.0"
+  foundation: ""
+config_overrides:
+  - simulation.duration_s=1.0
+host: testhost
+recorded_utc: 2026-12-02T10:00:00Z
+config:
+  simulation:
+    speed_m_s: 8.0
+    time_step_s: 1e-05
+  vehicle:
+    name: tram
+  vehicles:
+    tram:
+      wheels:
+        - {name: lead_axle, radius_m: 0.34}
+        - {name: trail_axle, radius_m: 0.34}
+  unevenness:
+    defect:
+      enabled: true
+      position_m: 0.25
+      height_m: 1.0e-3
+  soil:
+    mesh:
+      f_max_hz: 37.5
+  site:
+    rail_gauge_m: 1.435
+    building:
+      front_wall_distance_from_rail_m: 4.0
+      center_x_m: 0.0
+  building:
+    width_m: 7.0
+  virtual_sensors:
+    din4150_2_period: PERIOD
+"""
+REPORT_CONFIG = {
+    "simulation": {"speed_m_s": 8.0, "time_step_s": 1e-05},
+    "vehicle": {"name": "tram"},
+    "vehicles": {"tram": {"wheels": [{"name": "lead_axle", "radius_m": 0.34},
+                                     {"name": "trail_axle", "radius_m": 0.34}]}},
+    "unevenness": {"defect": {"enabled": True, "position_m": 0.25, "height_m": 1.0e-3}},
+    "soil": {"mesh": {"f_max_hz": 37.5}},
+    "site": {"rail_gauge_m": 1.435, "building": {"front_wall_distance_from_rail_m": 4.0, "center_x_m": 0.0}},
+    "building": {"width_m": 7.0},
+    "virtual_sensors": {"din4150_2_period": "day"},
+}
+
+
+def metrics_without_guides():
+    """railvib/VibrationMetrics as recorded before it had the DIN 4150-2 guide values."""
+    import genpy.dynamic
+    text = "\n".join(line for line in rm.VibrationMetrics._full_text.splitlines()
+                     if not line.startswith("float64 din4150_2_a_"))
+    return genpy.dynamic.generate_dynamic("railvib/VibrationMetrics", text)["railvib/VibrationMetrics"]
+
+
+def report_bag(path, scenario="day", guides=(0.123, 0.456), spikes_s=None):
+    """1 s of the synthetic run. scenario: the DIN 4150-2 period of the recorded scenario, or None
+    for a bag without /railvib/scenario; guides: the live sensors' A_u, A_o, or None for metrics of
+    the older message; spikes_s: per wheel, the time of a force spike (no defect crossing)."""
+    msgs = []
+    if scenario:
+        msgs.append((names.SCENARIO, String(data=REPORT_SCENARIO_TEXT.replace("PERIOD", scenario))))
+    # Contact forces at 10 kHz: 25 kN static, a decaying impact once a wheel is past the defect.
+    fc, n = 10000.0, 10000
+    t = np.arange(n) / fc
+    x = np.array([REPORT_FRONT_START_M - o + REPORT_SPEED_M_S * t for o in REPORT_AXLE_OFFSETS_M]).T
+    f = np.full_like(x, 25e3)
+    for w in range(2):
+        if spikes_s:
+            f[int(round(spikes_s[w] * fc)), w] += 30e3
+            x[:, w] = 100.0 + t  # never over the defect
+        else:
+            after = np.clip(t - (REPORT_DEFECT_M - x[0, w]) / REPORT_SPEED_M_S, 0.0, None)
+            f[:, w] += np.where(after > 0, 20e3 * np.exp(-after / 0.004) * np.sin(2 * np.pi * 60 * after), 0.0)
+    for first in range(0, n, 2500):
+        m = rm.ContactForces()
+        m.first_sample_index, m.sample_count, m.sample_period_s, m.wheel_count = first, 2500, 1 / fc, 2
+        m.end_of_stream = first + 2500 == n
+        m.position_m = x[first:first + 2500].ravel().tolist()
+        m.force_n = f[first:first + 2500].ravel().tolist()
+        m.unevenness_m = [0.0] * (2500 * 2)
+        msgs.append((names.CONTACT_FORCES, m))
+    # Sensors at 1 kHz: ground_2m vertical, the first floor mostly across the track (vy governs).
+    fs, ns = 1000.0, 1000
+    ts = np.arange(ns) / fs
+    sensors = ["ground_2m", "house_first_floor"]
+    v = np.zeros((ns, 2, 3))
+    v[:, 0, 2] = 1e-3 * np.sin(2 * np.pi * 20 * ts)
+    v[:, 1, 1] = 2e-3 * np.sin(2 * np.pi * 15 * ts)
+    v[:, 1, 2] = 0.5e-3 * np.sin(2 * np.pi * 30 * ts)
+    # The receiver line: a pulse leaving the track at the first impact, at 150 m/s.
+    line_y = [1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0]
+    receivers = [f"line_y{int(y)}" for y in line_y] + [names.BUILDING_RESPONSE_FREE_FIELD_POINT]
+    t_hit = (REPORT_DEFECT_M - REPORT_FRONT_START_M) / REPORT_SPEED_M_S
+    r = np.zeros((ns, len(receivers), 3))
+    for j, y in enumerate(line_y + [8.2]):
+        r[:, j, 2] = 1e-3 * np.exp(-((ts - t_hit - y / 150.0) / 0.01) ** 2) / y
+    lay = rm.PointLayout()
+    lay.names, lay.positions = receivers, [Point(0.0, y, 0.0) for y in line_y + [8.2]]
+    msgs.append((names.SURFACE_POINTS, lay))
+    for first in range(0, ns, 500):
+        ss = rm.SensorSamples()
+        ss.first_sample_index, ss.sample_count, ss.sample_period_s = first, 500, 1 / fs
+        ss.end_of_stream = first + 500 == ns
+        ss.sensor_count, ss.sensor_names = 2, sensors
+        ss.velocity_m_s = v[first:first + 500].ravel().tolist()
+        ss.acceleration_m_s2 = [0.0] * (500 * 2 * 3)
+        msgs.append((names.SENSOR_SAMPLES, ss))
+        sv = rm.SurfaceVelocities()
+        sv.first_sample_index, sv.sample_count, sv.sample_period_s = first, 500, 1 / fs
+        sv.end_of_stream = ss.end_of_stream
+        sv.receiver_count = len(receivers)
+        sv.velocity_m_s = r[first:first + 500].ravel().tolist()
+        msgs.append((names.SURFACE_VELOCITIES, sv))
+    for name, governing in (("ground_2m", 2), ("house_first_floor", 1)):
+        m = (rm.VibrationMetrics if guides else metrics_without_guides())()
+        m.sensor_name, m.kb_f_max, m.governing_component, m.din4150_2_verdict = name, 0.5, governing, 1
+        if guides:
+            m.din4150_2_a_u, m.din4150_2_a_o, m.din4150_2_a_r = guides[0], guides[1], 0.05
+        msgs.append((names.SENSOR_METRICS, m))
+    status = {"status": "closed: all streams complete",
+              "expected_streams": [names.CONTACT_FORCES, names.SURFACE_VELOCITIES, names.SENSOR_SAMPLES]}
+    return write_bag(path, msgs, status)
+
+
+class ReportFigures(unittest.TestCase):
+    """report.py's figures (issue #13): spectra, guide lines, impact times, zooms, scenario record, exposure."""
+
+    def report(self, bag, *extra):
+        out = WORK / (pathlib.Path(bag).stem + "_report")
+        run = subprocess.run([sys.executable, str(SCRIPTS / "report.py"), str(bag), str(out)] + list(extra),
+                             capture_output=True, text=True)
+        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
+        self.assertNotIn("Traceback", run.stderr)
+        return out, json.loads((out / "report.json").read_text()), (out / "report.md").read_text()
+
+    def tool_json(self, *args):
+        import report
+        out = subprocess.run(report.tool() + list(args), capture_output=True, text=True)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        return json.loads(out.stdout)
+
+    def test_a_sine_of_amplitude_a_lasting_t_has_a_transform_peak_of_a_t_over_two(self):
+        import report
+        for amplitude, f_hz, duration_s, fs in ((2.5, 20.0, 1.5, 1000.0), (0.7, 12.25, 4.0, 500.0)):
+            t = np.arange(int(duration_s * fs)) / fs
+            fr, mag = report.spectrum(t, amplitude * np.sin(2 * np.pi * f_hz * t))
+            k = int(np.argmax(mag))
+            self.assertAlmostEqual(fr[k], f_hz, delta=1.0 / duration_s)
+            self.assertAlmostEqual(mag[k] / (amplitude * duration_s / 2), 1.0, delta=0.02)
+        self.assertEqual(report.spectrum_range_hz(1000.0, 2000.0), 100.0)
+        self.assertAlmostEqual(report.spectrum_range_hz(100.0, 1000.0), 45.0)
+
+    def test_the_spectra_share_one_range_and_mark_the_mesh_resolution(self):
+        out, shown, md = self.report(report_bag(WORK / "rf_spectra.bag"))
+        self.assertEqual(shown["spectrum"]["range_hz"], [0.0, 100.0])
+        self.assertEqual(shown["spectrum"]["mesh_f_max_hz"], 37.5)
+        self.assertEqual(shown["spectrum"]["unit"], "(mm/s)/Hz")
+        self.assertIn("|V(f)| = dt |FFT(v)|", md)
+        self.assertIn("soil.mesh.f_max_hz = 37.5 Hz", md)
+        for fig in ("contact_forces.png", "sensors.png", "wave_field.png", "building_vs_free_field.png"):
+            self.assertIn(fig, shown["figures"])
+            self.assertGreater((out / fig).stat().st_size, 10000, fig)
+
+    def test_the_kbf_lines_are_the_live_sensors_guide_values(self):
+        _, shown, md = self.report(report_bag(WORK / "rf_guides.bag", guides=(0.123, 0.456)))
+        for name in ("ground_2m", "house_first_floor"):
+            self.assertEqual((shown["sensors"][name]["a_u"], shown["sensors"][name]["a_o"]), (0.123, 0.456))
+            self.assertIn(names.SENSOR_METRICS, shown["sensors"][name]["guide_source"])
+        self.assertIn("0.123 / 0.456", md)
+
+    def test_an_older_bag_draws_the_tools_guide_values_of_the_recorded_period(self):
+        guides = self.tool_json("din-guides")["din4150_2_residential"]
+        for period, scenario in (("night", "night"), ("day", "day"), ("day", None)):
+            _, shown, _ = self.report(report_bag(WORK / f"rf_old_{scenario}.bag", scenario=scenario, guides=None))
+            s = shown["sensors"]["ground_2m"]
+            self.assertEqual((s["a_u"], s["a_o"]), (guides[period]["a_u"], guides[period]["a_o"]), scenario)
+            self.assertIn("din-guides", s["guide_source"])
+            self.assertEqual(s["period"], period)
+
+    def test_impact_times_are_the_wheels_crossings_of_the_defect(self):
+        out, shown, md = self.report(report_bag(WORK / "rf_impacts.bag"))
+        cf = shown["contact_forces"]
+        expected = [(REPORT_DEFECT_M - REPORT_FRONT_START_M + o) / REPORT_SPEED_M_S for o in REPORT_AXLE_OFFSETS_M]
+        for got, want in zip(cf["impact_times_s"], expected):
+            self.assertAlmostEqual(got, want, delta=1e-6)
+        self.assertEqual(cf["defect_position_m"], REPORT_DEFECT_M)
+        self.assertEqual(cf["wheel_names"], ["lead_axle", "trail_axle"])
+        self.assertIn("| 1 | trail_axle |", md)
+        # the wave field zooms on the first impact and marks the house (4 m from the exterior rail, 7 m wide)
+        wf = shown["wave_field"]
+        self.assertAlmostEqual(wf["window_s"][0], expected[0] - 0.1, places=9)
+        self.assertAlmostEqual(wf["window_s"][1] - wf["window_s"][0], 0.6, places=9)
+        self.assertAlmostEqual(wf["house_y_m"][0], 0.7175 + 4.0, places=9)
+        self.assertAlmostEqual(wf["house_y_m"][1], 0.7175 + 11.0, places=9)
+
+    def test_without_the_defect_position_the_largest_force_deviation_is_used_and_said(self):
+        spikes = [0.3141, 0.6]
+        _, shown, md = self.report(report_bag(WORK / "rf_spikes.bag", scenario=None, spikes_s=spikes))
+        cf = shown["contact_forces"]
+        for got, want in zip(cf["impact_times_s"], spikes):
+            self.assertAlmostEqual(got, want, delta=1e-9)
+        self.assertEqual(cf["wheel_names"], ["axle 1", "axle 2"])
+        self.assertIn("largest force deviation", md)
+        self.assertIn("defect position is not known", md)
+
+    def test_the_governing_component_is_plotted_beside_vz(self):
+        _, shown, md = self.report(report_bag(WORK / "rf_governing.bag"))
+        self.assertEqual(shown["sensors"]["ground_2m"]["plotted_components"], ["vz"])
+        self.assertEqual(shown["sensors"]["house_first_floor"]["plotted_components"], ["vz", "vy"])
+        self.assertIn("house_first_floor: vy", md)
+
+    def test_the_exposure_rating_is_the_tools_on_the_recorded_samples(self):
+        for extra, exposure_s in (((), 1.0), (("--exposure-s", "3600"), 3600.0)):
+            out, shown, md = self.report(report_bag(WORK / "rf_exposure.bag"), *extra)
+            for name in ("ground_2m", "house_first_floor"):
+                tool = self.tool_json("metrics", "--csv", str(out / f"{name}_velocity.csv"), "--column", "vx,vy,vz",
+                                      "--exposure-s", str(exposure_s), "--period", "day")["din4150_2"]
+                s = shown["sensors"][name]
+                self.assertEqual((s["kb_ftr"], s["exposure_s"], s["rated_verdict"]),
+                                 (tool["kb_ftr"], exposure_s, tool["verdict"]))
+                self.assertIn(f"| {name} | 0.5000 | WARN (rating KB_FTr decides) | {tool['kb_ftr']:.3g} | "
+                              f"{exposure_s:g} |", md)
+            self.assertIn("only decides the WARN case", md)
+
+    def test_the_scenario_is_shown_and_its_config_written(self):
+        out, shown, md = self.report(report_bag(WORK / "rf_scenario.bag"))
+        self.assertTrue(shown["scenario_recorded"])
+        self.assertEqual(yaml.safe_load((out / "scenario.yaml").read_text()), REPORT_CONFIG)
+        for text in ("## Scenario", "test-1.2.3", "`./railvib run haren speed:=8.0`", "/work/config/haren.yaml",
+                     "speed:=8.0", "simulation.duration_s=1.0", "testhost", "2026-12-02T10:00:00Z"):
+            self.assertIn(text, md)
+        self.assertNotIn("foundation:=", md)  # an empty argument keeps the config's value
+
+    def test_a_bag_without_the_scenario_record_still_reports(self):
+        out, shown, md = self.report(report_bag(WORK / "rf_noscenario.bag", scenario=None))
+        self.assertFalse(shown["scenario_recorded"])
+        self.assertIn("Not recorded (bag from an older railvib)", md)
+        self.assertFalse((out / "scenario.yaml").exists())
+        self.assertIsNone(shown["spectrum"]["mesh_f_max_hz"])
+        self.assertIsNone(shown["contact_forces"]["defect_position_m"])
+        self.assertEqual(len(shown["figures"]), 4)
+
+
 def write_junit(result, path):
     suite = ET.Element("testsuite", name="script_tests", tests=str(result.testsRun))
     failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures):
         for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
             case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
             if test.id() in failed:
@@ -339,7 +616,7 @@ def write_junit(result, path):
 
 if __name__ == "__main__":
     suite = unittest.TestSuite()
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures):
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
