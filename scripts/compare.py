@@ -63,15 +63,20 @@ def die(msg):
     sys.exit("railvib compare: error: " + msg)
 
 
+def check_whole(path):
+    """Refuse a bag that is not railvib's or not whole (scripts/bag_check.py)."""
+    checked = bag_check.check_bag(path)
+    if checked.refused:
+        die(f"{path}: {checked.refused}")
+    if checked.incomplete:
+        die(f"{path}: incomplete streams: {', '.join(checked.incomplete)}")
+
+
 class SensorRun:
     """The virtual sensors of any railvib bag (the two-run comparison)."""
 
     def __init__(self, path):
-        checked = bag_check.check_bag(path)
-        if checked.refused:
-            die(f"{path}: {checked.refused}")
-        if checked.incomplete:
-            die(f"{path}: incomplete streams: {', '.join(checked.incomplete)}")
+        check_whole(path)
         with rosbag.Bag(str(path)) as bag:
             ss = report.read_stream(bag, names.SENSOR_SAMPLES)
             if not ss:
@@ -143,11 +148,7 @@ class Run:
     """The records of one bag that the comparison needs."""
 
     def __init__(self, path):
-        checked = bag_check.check_bag(path)
-        if checked.refused:
-            die(f"{path}: {checked.refused}")
-        if checked.incomplete:
-            die(f"{path}: incomplete streams: {', '.join(checked.incomplete)}")
+        check_whole(path)
         with rosbag.Bag(str(path)) as bag:
             ss = report.read_stream(bag, names.SENSOR_SAMPLES)
             sv = report.read_stream(bag, names.SURFACE_VELOCITIES)

@@ -243,22 +243,10 @@ def write_vtk(outdir, bag, every):
             say(f"{topic}: not in the bag, no {stem}.pvd")
 
 
-def scenario_record(bag):
-    for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
-        try:
-            record = yaml.safe_load(m.data)
-        except yaml.YAMLError as e:
-            die(f"{names.SCENARIO}: not YAML: {e}")
-        if not isinstance(record, dict):
-            die(f"{names.SCENARIO}: not a map")
-        return record
-    return None
-
-
-def write_house(outdir, record):
+def write_house(outdir, record, why):
     """The house mesh and mode shapes in frame track, from the scenario the bag records."""
     if record is None or not isinstance(record.get("config"), dict):
-        say(f"no {names.SCENARIO} record in the bag (older railvib): no house export")
+        say(f"{names.SCENARIO}: {why or 'no config in the record'}: no house export")
         return
     if "building" not in record["config"]:
         say("the recorded scenario has no house: no building_modes.vtk")
@@ -315,9 +303,9 @@ def main(argv):
                 write_mat(outdir, streams)
         if "vtk" in what:
             write_vtk(outdir, bag, options.every)
-        record = scenario_record(bag)
+        record, why = report.scenario_record(bag)
     if "house" in what:
-        write_house(outdir, record)
+        write_house(outdir, record, why)
     if checked.incomplete:
         print("railvib export: incomplete run, streams stopped early: " + ", ".join(checked.incomplete),
               file=sys.stderr)
