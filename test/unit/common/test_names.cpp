@@ -46,6 +46,9 @@ TEST(Names, PythonMirrorAgrees) {
       {"SITE_MARKERS", std::string("/") + names::kSiteMarkersTopic},
       {"SURFACE_CLOUD", std::string("/") + names::kSurfaceCloudTopic},
       {"RECORDING_STATUS", names::kRecordingStatusTopic},
+      {"SCENARIO", names::kScenarioTopic},
+      {"CLOCK", names::kClockTopic},
+      {"DIAGNOSTICS", names::kDiagnosticsTopic},
       {"RECEIVER_LINE_PREFIX", names::receiverLinePoint(0.0).substr(0, 6)},
       {"BUILDING_RESPONSE_FREE_FIELD_POINT", names::kBuildingResponseFreeFieldPoint},
   };
