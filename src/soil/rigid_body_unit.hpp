@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "railvib/soil/mesh.hpp"
+#include "railvib/soil/partition.hpp"
 #include "railvib/soil/rigid_body.hpp"
+#include "railvib/soil/soil_comm.hpp"
 #include "railvib/soil/solver_unit.hpp"
 
 namespace railvib::soil {
@@ -52,17 +54,40 @@ class RigidBodyUnit final : public SolverUnit<Real> {
  public:
   RigidBodyUnit(const StructuredMesh& mesh, const std::vector<double>& mass, const RigidBodySpec& spec, double dt_s,
                 double filter_decay, double beta_s)
-      : core_(mesh, mass, spec, dt_s, filter_decay, beta_s) {}
+      : core_(mesh, mass, spec, dt_s, filter_decay, beta_s),
+        local_(core_.nodes()),
+        owned_(core_.nodes().size(), 1),
+        global_sx_(mesh.nx + 1),
+        global_sxy_((mesh.nx + 1) * (mesh.ny + 1)) {}
+
+  /// Spread over ranks (the core was built on the whole mesh, identically on every rank): this rank
+  /// gathers the forces of the carried nodes it owns, the generalised force is summed over the ranks in
+  /// rank order (the same sum on every rank), and the rank writes the motion of the nodes in its slab.
+  void spread(const StructuredMesh& slab, const SlabPartition& partition, SoilComm* comm) {
+    comm_ = comm;
+    for (size_t a = 0; a < core_.nodes().size(); ++a) {
+      const size_t g = core_.nodes()[a];
+      const size_t i = g % global_sx_, j = (g % global_sxy_) / global_sx_, k = g / global_sxy_;
+      owned_[a] = partition.ownsNodePlane(i) ? 1 : 0;
+      local_[a] = partition.holdsNodePlane(i) ? slab.node(i - partition.begin(), j, k) : kNone;
+    }
+  }
 
   void readForces(const StepContext<Real>& ctx) override {
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    const auto& nodes = core_.nodes();
-    for (size_t a = 0; a < nodes.size(); ++a) {
-      const size_t n = nodes[a];
+    for (size_t a = 0; a < local_.size(); ++a) {
+      if (!owned_[a]) continue;
+      const size_t n = local_[a];
       const Eigen::Vector3d f(static_cast<double>(ctx.fields.f[0][n]), static_cast<double>(ctx.fields.f[1][n]),
                               static_cast<double>(ctx.fields.f[2][n]));
       g.head<3>() += f;
       g.tail<3>() += core_.offsets()[a].cross(f);
+    }
+    if (comm_) {
+      comm_->allGather(g.data(), 6, gathered_);
+      g.setZero();
+      for (size_t r = 0; r < gathered_.size() / 6; ++r)
+        g += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(&gathered_[6 * r]);
     }
     core_.setForce(g);
   }
@@ -70,9 +95,9 @@ class RigidBodyUnit final : public SolverUnit<Real> {
   void afterUpdate(StepContext<Real>& ctx) override {
     core_.advance();
     const Eigen::Matrix<double, 6, 1> u = core_.displacement(), v = core_.velocity(), vf = core_.filteredVelocity();
-    const auto& nodes = core_.nodes();
-    for (size_t a = 0; a < nodes.size(); ++a) {
-      const size_t n = nodes[a];
+    for (size_t a = 0; a < local_.size(); ++a) {
+      const size_t n = local_[a];
+      if (n == kNone) continue;
       const Eigen::Vector3d ua = core_.nodeValue(u, a), va = core_.nodeValue(v, a), vfa = core_.nodeValue(vf, a);
       for (int c = 0; c < 3; ++c) {
         ctx.fields.u[c][n] = static_cast<Real>(ua[c]);
@@ -87,7 +112,13 @@ class RigidBodyUnit final : public SolverUnit<Real> {
   const RigidBodyCore& core() const { return core_; }
 
  private:
+  static constexpr size_t kNone = static_cast<size_t>(-1);
   RigidBodyCore core_;
+  std::vector<size_t> local_;  // per carried node: its index in this rank's slab, or kNone
+  std::vector<char> owned_;    // per carried node: this rank gathers its force
+  size_t global_sx_, global_sxy_;
+  SoilComm* comm_ = nullptr;
+  std::vector<double> gathered_;
 };
 
 }  // namespace railvib::soil

@@ -28,9 +28,12 @@ struct Solver::Impl {
   virtual void init(const StructuredMesh& m, const SolverOptions& o, double dt, const std::vector<double>& mass,
                     const std::vector<double> c[3]) = 0;
   virtual void setKernel(KernelKind kind, const ElementBox& box) = 0;
+  /// Spread over ranks: the communicator and partition (before setKernel).
+  virtual void setPartition(SoilComm* comm, const SlabPartition& partition) = 0;
   virtual void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) = 0;
   virtual double kernelMultiplyAdds() const = 0;
-  virtual size_t attachRigidBody(const RigidBodySpec& spec, const std::vector<double>& mass) = 0;
+  virtual size_t attachRigidBody(const RigidBodySpec& spec, const StructuredMesh& global_mesh,
+                                 const std::vector<double>& global_mass) = 0;
   virtual const RigidBodyState& rigidBody(size_t i) const = 0;
   virtual size_t rigidBodyCount() const = 0;
   virtual double unitEnergy() const = 0;
@@ -50,7 +53,13 @@ struct ImplT : Solver::Impl {
   int threads = 1;
   Real dt = 0, beta = 0, e_filter = 0;
   std::vector<Real> u[3], v[3], vf[3], w[3], f[3], va[3], vb[3];
+  // One kernel on one rank; spread over ranks, the element columns next to a shared plane first
+  // (their forces are sent) and the interior while the messages travel.
+  std::vector<std::unique_ptr<StiffnessKernel<Real>>> edge_kernels;
   std::unique_ptr<StiffnessKernel<Real>> kernel;
+  SoilComm* comm = nullptr;  // null on one rank
+  SlabPartition partition;
+  std::vector<Real> send_low, send_high, recv_low, recv_high;
   std::vector<std::unique_ptr<SolverUnit<Real>>> units;
   std::vector<const RigidBodyUnit<Real>*> bodies;
   StepContext<Real> ctx;
@@ -78,11 +87,10 @@ struct ImplT : Solver::Impl {
       vb[d].resize(n);
       for (size_t i = 0; i < n; ++i) {
         const double a = mass[i] / dt_s;
-        const bool fixed = (o.lateral_rollers && d < 2) || (o.fixed_bottom && i >= n - sxy) ||
-                           (o.symmetry_x_min && d == 0 && i % sx == 0) ||
-                           (o.symmetry_y_min && d == 1 && (i % sxy) / sx == 0) ||
-                           (o.antisymmetry_x_min && d != 0 && i % sx == 0) ||
-                           (o.antisymmetry_y_min && d != 1 && (i % sxy) / sx == 0);
+        const bool fixed =
+            (o.lateral_rollers && d < 2) || (o.fixed_bottom && i >= n - sxy) ||
+            (o.symmetry_x_min && d == 0 && i % sx == 0) || (o.symmetry_y_min && d == 1 && (i % sxy) / sx == 0) ||
+            (o.antisymmetry_x_min && d != 0 && i % sx == 0) || (o.antisymmetry_y_min && d != 1 && (i % sxy) / sx == 0);
         va[d][i] = fixed ? Real(0) : static_cast<Real>((a - 0.5 * c[d][i]) / (a + 0.5 * c[d][i]));
         vb[d][i] = fixed ? Real(0) : static_cast<Real>(1.0 / (a + 0.5 * c[d][i]));
       }
@@ -105,17 +113,66 @@ struct ImplT : Solver::Impl {
     }
   }
 
+  void setPartition(SoilComm* c, const SlabPartition& p) override {
+    comm = p.single() ? nullptr : c;
+    partition = p;
+    const size_t plane = 3 * (mesh->ny + 1) * (mesh->nz + 1);
+    if (partition.hasLow()) send_low.resize(plane), recv_low.resize(plane);
+    if (partition.hasHigh()) send_high.resize(plane), recv_high.resize(plane);
+  }
+
   void setKernel(KernelKind kind, const ElementBox& box) override {
-    kernel = makeStiffnessKernel<Real>(kind, *mesh, box, threads);
+    if (!comm) {
+      kernel = makeStiffnessKernel<Real>(kind, *mesh, box, threads);
+      return;
+    }
+    ElementBox interior = box;
+    if (partition.hasLow()) {
+      const ElementBox edge = box.intersect({0, 1, 0, mesh->ny, 0, mesh->nz});
+      if (!edge.empty()) edge_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, edge, threads));
+      interior.i0 = std::max<size_t>(interior.i0, 1);
+    }
+    if (partition.hasHigh()) {
+      const ElementBox edge = box.intersect({mesh->nx - 1, mesh->nx, 0, mesh->ny, 0, mesh->nz});
+      if (!edge.empty()) edge_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, edge, threads));
+      interior.i1 = std::min(interior.i1, mesh->nx - 1);
+    }
+    if (!interior.empty()) kernel = makeStiffnessKernel<Real>(kind, *mesh, interior, threads);
+  }
+
+  // The shared node planes: local i = 0 (low neighbour) and i = nx (high neighbour), j fastest, then k.
+  void packPlane(size_t i, Real* buf) const {
+    size_t q = 0;
+    for (size_t k = 0; k <= mesh->nz; ++k) {
+      for (size_t j = 0; j <= mesh->ny; ++j) {
+        const size_t nd = mesh->node(i, j, k);
+        for (int d = 0; d < 3; ++d) buf[q++] = f[d][nd];
+      }
+    }
+  }
+  void addPlane(size_t i, const Real* buf) {
+    size_t q = 0;
+    for (size_t k = 0; k <= mesh->nz; ++k) {
+      for (size_t j = 0; j <= mesh->ny; ++j) {
+        const size_t nd = mesh->node(i, j, k);
+        for (int d = 0; d < 3; ++d) f[d][nd] += buf[q++];
+      }
+    }
   }
   void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) override;
 
-  double kernelMultiplyAdds() const override { return kernel->multiplyAddsPerApply(); }
+  double kernelMultiplyAdds() const override {
+    double m = kernel ? kernel->multiplyAddsPerApply() : 0.0;
+    for (const auto& k : edge_kernels) m += k->multiplyAddsPerApply();
+    return m;
+  }
 
-  size_t attachRigidBody(const RigidBodySpec& spec, const std::vector<double>& mass) override {
+  size_t attachRigidBody(const RigidBodySpec& spec, const StructuredMesh& global_mesh,
+                         const std::vector<double>& global_mass) override {
     if (ctx.step != 0) throw std::logic_error("soil solver: attach rigid bodies before the first step");
-    auto unit = std::make_unique<RigidBodyUnit<Real>>(*mesh, mass, spec, static_cast<double>(dt),
+    auto unit = std::make_unique<RigidBodyUnit<Real>>(global_mesh, global_mass, spec, static_cast<double>(dt),
                                                       static_cast<double>(e_filter), static_cast<double>(beta));
+    if (comm) unit->spread(*mesh, partition, comm);
     bodies.push_back(unit.get());
     units.push_back(std::move(unit));
     return bodies.size() - 1;
@@ -131,7 +188,8 @@ struct ImplT : Solver::Impl {
   void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) override {
     const Real* in[3] = {w[0].data(), w[1].data(), w[2].data()};
     Real* out[3] = {f[0].data(), f[1].data(), f[2].data()};
-    kernel->apply(in, out);
+    if (!comm) kernel->apply(in, out);
+    for (const auto& k : edge_kernels) k->apply(in, out);
     for (auto& unit : units) unit->addForces(ctx);
     for (size_t c = 0; c < ch.size(); ++c) {
       const double val = values[c];
@@ -139,6 +197,18 @@ struct ImplT : Solver::Impl {
       for (size_t q = 0; q < ch[c].nodes.size(); ++q) {
         f[ch[c].components[q]][ch[c].nodes[q]] += static_cast<Real>(ch[c].weights[q] * val);
       }
+    }
+    if (comm) {
+      // The shared planes hold this slab's part of their forces: send it, integrate the interior, add
+      // the neighbours' parts.
+      if (partition.hasLow()) packPlane(0, send_low.data());
+      if (partition.hasHigh()) packPlane(mesh->nx, send_high.data());
+      comm->startExchange(send_low.data(), recv_low.data(), send_low.size() * sizeof(Real), send_high.data(),
+                          recv_high.data(), send_high.size() * sizeof(Real));
+      if (kernel) kernel->apply(in, out);
+      comm->finishExchange();
+      if (partition.hasLow()) addPlane(0, recv_low.data());
+      if (partition.hasHigh()) addPlane(mesh->nx, recv_high.data());
     }
     for (auto& unit : units) unit->readForces(ctx);
     updateNodes();
@@ -188,7 +258,8 @@ struct ImplT : Solver::Impl {
     for (auto& t : tmp) t.assign(n, 0);
     const Real* in[3] = {u[0].data(), u[1].data(), u[2].data()};
     Real* out[3] = {tmp[0].data(), tmp[1].data(), tmp[2].data()};
-    kernel->apply(in, out);
+    if (kernel) kernel->apply(in, out);
+    for (const auto& k : edge_kernels) k->apply(in, out);
     out_f.resize(3 * n);
     for (size_t i = 0; i < n; ++i) {
       for (int d = 0; d < 3; ++d) out_f[3 * i + static_cast<size_t>(d)] = static_cast<double>(tmp[d][i]);
@@ -233,24 +304,103 @@ static std::vector<double> lumpedMass(const StructuredMesh& m) {
   return mass;
 }
 
-Solver::Solver(StructuredMesh mesh, const SolverOptions& options) : mesh_(std::move(mesh)), options_(options) {
-  if (mesh_.nx == 0 || mesh_.ny == 0 || mesh_.nz == 0) throw std::invalid_argument("soil solver: empty mesh");
+namespace {
+// The least element columns a slab needs: two, and an end slab the boundary layer along x plus one.
+size_t endSlabColumns(const StructuredMesh& m, const SoilBoundary& boundary, const AbsorbingFaces& faces) {
+  if (!(faces.x_min || faces.x_max)) return 2;
+  const double zone = boundary.zoneThicknessM();
+  return std::max<size_t>(2, static_cast<size_t>(std::floor(zone / m.hx + 1e-9)) + 1);
+}
+}  // namespace
+
+Solver::Solver(StructuredMesh mesh, const SolverOptions& options, std::shared_ptr<SoilComm> comm)
+    : global_mesh_(std::move(mesh)), options_(options), comm_(comm ? std::move(comm) : serialSoilComm()) {
+  const StructuredMesh& g = global_mesh_;
+  if (g.nx == 0 || g.ny == 0 || g.nz == 0) throw std::invalid_argument("soil solver: empty mesh");
+  if (options_.ranks > 0 && options_.ranks != comm_->size()) {
+    throw std::invalid_argument("soil.mesh.ranks = " + std::to_string(options_.ranks) + " but the soil runs on " +
+                                std::to_string(comm_->size()) + " rank(s) (" + comm_->kind() +
+                                "): start it with mpirun -np " + std::to_string(options_.ranks) +
+                                ", or set soil.mesh.ranks: 0 to take the launcher's count");
+  }
   boundary_ = makeSoilBoundary(options_.boundary);
+  partition_ =
+      makeSlabPartition(g.nx, comm_->size(), comm_->rank(), 2, endSlabColumns(g, *boundary_, options_.absorbing));
+  if (partition_.single()) {
+    mesh_ = g;
+  } else {
+    // The slab's own faces along x are the shared planes (no boundary there), except at the ends of the box.
+    mesh_ = sliceMesh(g, partition_.begin(), partition_.end());
+    if (partition_.hasLow()) {
+      options_.absorbing.x_min = false;
+      options_.symmetry_x_min = options_.antisymmetry_x_min = false;
+    }
+    if (partition_.hasHigh()) options_.absorbing.x_max = false;
+  }
   extra_ = std::make_unique<SolverExtra>();
   extra_->mass = lumpedMass(mesh_);
   const BoundaryContext bc{&mesh_, &extra_->mass, options_.absorbing};
   kernel_box_ = boundary_->kernelElements(bc);
   computeStabilityLimits();
   chooseStep();
-  const std::array<std::vector<double>, 3> c = diagonalDamping();
+  // The damping of the boundary is computed from the slab's own mass and faces (it is additive over
+  // elements, like the mass); both are then summed over the shared planes.
+  std::array<std::vector<double>, 3> c = diagonalDamping();
+  if (!partition_.single()) {
+    sumSharedPlanes(extra_->mass);
+    for (auto& cc : c) sumSharedPlanes(cc);
+  }
   if (options_.precision == Precision::Float) {
     impl_ = std::make_unique<ImplT<float>>();
   } else {
     impl_ = std::make_unique<ImplT<double>>();
   }
   impl_->init(mesh_, options_, dt_, extra_->mass, c.data());
+  impl_->setPartition(comm_.get(), partition_);
   impl_->setKernel(options_.kernel, kernel_box_);
   impl_->addUnit(*boundary_, bc);
+}
+
+// A nodal quantity of the slab's elements summed with the neighbours' at the shared planes (set-up).
+void Solver::sumSharedPlanes(std::vector<double>& values) const {
+  const size_t plane = (mesh_.ny + 1) * (mesh_.nz + 1);
+  std::vector<double> send_low, send_high, recv_low, recv_high;
+  auto pack = [&](size_t i, std::vector<double>& buf) {
+    buf.clear();
+    for (size_t k = 0; k <= mesh_.nz; ++k) {
+      for (size_t j = 0; j <= mesh_.ny; ++j) buf.push_back(values[mesh_.node(i, j, k)]);
+    }
+  };
+  if (partition_.hasLow()) pack(0, send_low), recv_low.resize(plane);
+  if (partition_.hasHigh()) pack(mesh_.nx, send_high), recv_high.resize(plane);
+  comm_->startExchange(send_low.data(), recv_low.data(), send_low.size() * sizeof(double), send_high.data(),
+                       recv_high.data(), send_high.size() * sizeof(double));
+  comm_->finishExchange();
+  auto add = [&](size_t i, const std::vector<double>& buf) {
+    size_t q = 0;
+    for (size_t k = 0; k <= mesh_.nz; ++k) {
+      for (size_t j = 0; j <= mesh_.ny; ++j) values[mesh_.node(i, j, k)] += buf[q++];
+    }
+  };
+  if (partition_.hasLow()) add(0, recv_low);
+  if (partition_.hasHigh()) add(mesh_.nx, recv_high);
+}
+
+size_t Solver::localNode(size_t global_node) const {
+  if (partition_.single()) return global_node;
+  const StructuredMesh& g = global_mesh_;
+  const size_t sx = g.nx + 1, sxy = sx * (g.ny + 1);
+  const size_t i = global_node % sx, j = (global_node % sxy) / sx, k = global_node / sxy;
+  if (k > g.nz || !partition_.holdsNodePlane(i)) return static_cast<size_t>(-1);
+  return mesh_.node(i - partition_.begin(), j, k);
+}
+
+bool Solver::ownsPoint(double x_m) const {
+  if (partition_.single()) return true;
+  const StructuredMesh& g = global_mesh_;
+  const double s = (x_m - g.x0) / g.hx;
+  const size_t i = s <= 0.0 ? 0 : std::min(static_cast<size_t>(s), g.nx - 1);
+  return partition_.ownerOfColumn(i) == partition_.rank;
 }
 
 // Irons' element bound on lambda_max(M^-1 K) gives the undamped limit; the filtered Rayleigh damping and
@@ -267,6 +417,7 @@ void Solver::computeStabilityLimits() {
   const double omega_c = 2.0 * M_PI * options_.damping_cutoff_hz;
   const BoundaryContext bc{&mesh_, &extra_->mass, options_.absorbing};
   dt_damped_ = std::min(dt_undamped_ / std::sqrt(1.0 + beta * omega_c), boundary_->stableStepLimitS(bc));
+  if (!partition_.single()) dt_damped_ = comm_->minimum(dt_damped_);
   const double xi = beta * omega_max / 2.0;
   dt_naive_ = dt_undamped_ * (std::sqrt(1.0 + xi * xi) - xi);
 }
@@ -309,6 +460,27 @@ size_t Solver::memoryBytes() const {
 }
 
 size_t Solver::addForceChannel(ForceChannel channel) {
+  if (channel.nodes.size() != channel.components.size() || channel.nodes.size() != channel.weights.size()) {
+    throw std::invalid_argument("soil solver: force channel with nodes, components and weights of different sizes");
+  }
+  if (!partition_.single()) {
+    // This rank applies the loads of the node planes it owns (each node's load is applied once).
+    ForceChannel mine;
+    const size_t sx = global_mesh_.nx + 1;
+    for (size_t q = 0; q < channel.nodes.size(); ++q) {
+      if (!partition_.ownsNodePlane(channel.nodes[q] % sx)) continue;
+      mine.nodes.push_back(localNode(channel.nodes[q]));
+      mine.components.push_back(channel.components[q]);
+      mine.weights.push_back(channel.weights[q]);
+    }
+    channel = std::move(mine);
+  }
+  for (size_t q = 0; q < channel.nodes.size(); ++q) {
+    if (channel.nodes[q] >= mesh_.nodeCount() || channel.components[q] < 0 || channel.components[q] > 2) {
+      throw std::invalid_argument("soil solver: force channel node " + std::to_string(channel.nodes[q]) +
+                                  " / component " + std::to_string(channel.components[q]) + " outside the mesh");
+    }
+  }
   extra_->channels.push_back(std::move(channel));
   extra_->values.push_back(0.0);
   return extra_->channels.size() - 1;
@@ -326,7 +498,11 @@ void Solver::step() {
 
 double Solver::kernelMultiplyAddsPerStep() const { return impl_->kernelMultiplyAdds(); }
 
-size_t Solver::attachRigidBody(const RigidBodySpec& spec) { return impl_->attachRigidBody(spec, extra_->mass); }
+size_t Solver::attachRigidBody(const RigidBodySpec& spec) {
+  if (partition_.single()) return impl_->attachRigidBody(spec, global_mesh_, extra_->mass);
+  // The body is the same on every rank (its nodes may lie in several slabs): built on the whole mesh.
+  return impl_->attachRigidBody(spec, global_mesh_, lumpedMass(global_mesh_));
+}
 size_t Solver::rigidBodyCount() const { return impl_->rigidBodyCount(); }
 const RigidBodyState& Solver::rigidBody(size_t index) const { return impl_->rigidBody(index); }
 double Solver::unitEnergy() const { return impl_->unitEnergy(); }
@@ -335,12 +511,32 @@ void Solver::run(uint64_t n) {
   for (uint64_t s = 0; s < n; ++s) step();
 }
 
-double Solver::displacement(size_t node, int c) const { return impl_->get(0, node, c); }
-double Solver::velocity(size_t node, int c) const { return impl_->get(1, node, c); }
-void Solver::setDisplacement(size_t node, int c, double value) { impl_->set(0, node, c, value); }
-void Solver::setVelocity(size_t node, int c, double value) { impl_->set(1, node, c, value); }
-double Solver::nodalMass(size_t node) const { return extra_->mass[node]; }
-double Solver::kineticEnergy() const { return impl_->kinetic(extra_->mass); }
+namespace {
+size_t checkedLocal(const Solver& s, size_t node) {
+  const size_t local = s.localNode(node);
+  if (local >= s.localMesh().nodeCount()) {
+    throw std::out_of_range("soil solver: node " + std::to_string(node) + " is not in the slab of rank " +
+                            std::to_string(s.partition().rank));
+  }
+  return local;
+}
+}  // namespace
+
+double Solver::displacement(size_t node, int c) const { return impl_->get(0, checkedLocal(*this, node), c); }
+double Solver::velocity(size_t node, int c) const { return impl_->get(1, checkedLocal(*this, node), c); }
+void Solver::setDisplacement(size_t node, int c, double value) { impl_->set(0, checkedLocal(*this, node), c, value); }
+void Solver::setVelocity(size_t node, int c, double value) { impl_->set(1, checkedLocal(*this, node), c, value); }
+double Solver::nodalMass(size_t node) const { return extra_->mass[checkedLocal(*this, node)]; }
+double Solver::kineticEnergy() const {
+  if (partition_.single()) return impl_->kinetic(extra_->mass);
+  std::vector<double> owned = extra_->mass;  // the shared planes count once, on their owner
+  if (partition_.hasHigh()) {
+    for (size_t k = 0; k <= mesh_.nz; ++k) {
+      for (size_t j = 0; j <= mesh_.ny; ++j) owned[mesh_.node(mesh_.nx, j, k)] = 0.0;
+    }
+  }
+  return impl_->kinetic(owned);
+}
 void Solver::internalForce(std::vector<double>& f_out) const { impl_->internalForce(f_out); }
 
 namespace {
@@ -388,9 +584,20 @@ void Solver::displacementAt(double x, double y, double d, double out[3]) const {
 }
 
 void Solver::surfaceVelocityD(std::vector<double>& out) const {
-  const size_t ns = (mesh_.nx + 1) * (mesh_.ny + 1);
-  out.resize(ns);
-  for (size_t i = 0; i < ns; ++i) out[i] = impl_->get(1, i, 2);
+  const StructuredMesh& g = global_mesh_;
+  if (partition_.single()) {
+    const size_t ns = (g.nx + 1) * (g.ny + 1);
+    out.resize(ns);
+    for (size_t i = 0; i < ns; ++i) out[i] = impl_->get(1, i, 2);
+    return;
+  }
+  out.assign((g.nx + 1) * (g.ny + 1), 0.0);
+  const size_t b = partition_.begin();
+  for (size_t j = 0; j <= g.ny; ++j) {
+    for (size_t i = b; i <= partition_.end(); ++i) {
+      if (partition_.ownsNodePlane(i)) out[g.node(i, j, 0)] = impl_->get(1, mesh_.node(i - b, j, 0), 2);
+    }
+  }
 }
 
 }  // namespace railvib::soil

@@ -30,7 +30,9 @@
 #include "railvib/soil/boundary.hpp"
 #include "railvib/soil/kernel.hpp"
 #include "railvib/soil/mesh.hpp"
+#include "railvib/soil/partition.hpp"
 #include "railvib/soil/rigid_body.hpp"
+#include "railvib/soil/soil_comm.hpp"
 
 namespace railvib::soil {
 
@@ -68,6 +70,8 @@ struct SolverOptions {
   Precision precision = Precision::Float;
   /// OpenMP threads (0 = all).
   int threads = 0;
+  /// MPI ranks the soil expects (0 = as many as the launcher started; else they must agree).
+  int ranks = 0;
 };
 
 /// Bytes of state the solver allocates for a mesh (checked before allocation).
@@ -81,14 +85,30 @@ struct ForceChannel {
   std::vector<double> weights;
 };
 
+/// Spread over ranks (a communicator of more than one rank), every rank constructs the Solver with
+/// the same global mesh and options and calls step() in lockstep; each integrates its slab of element
+/// columns (partition.hpp) and exchanges the forces of the shared node planes with its neighbours,
+/// sent before and received after the slab's interior elements are integrated. Node indices and
+/// coordinates at the interface are global; a node accessor refuses a node outside this rank's slab.
 class Solver {
  public:
-  Solver(StructuredMesh mesh, const SolverOptions& options);
+  Solver(StructuredMesh mesh, const SolverOptions& options, std::shared_ptr<SoilComm> comm = nullptr);
   ~Solver();
   Solver(const Solver&) = delete;
   Solver& operator=(const Solver&) = delete;
 
-  const StructuredMesh& mesh() const { return mesh_; }
+  /// The whole mesh (on every rank).
+  const StructuredMesh& mesh() const { return global_mesh_; }
+  /// This rank's slab as a mesh of its own (the whole mesh on one rank).
+  const StructuredMesh& localMesh() const { return mesh_; }
+  const SlabPartition& partition() const { return partition_; }
+  SoilComm& comm() const { return *comm_; }
+  /// Index in localMesh() of a global node, or npos when it is not in this rank's slab.
+  size_t localNode(size_t global_node) const;
+  /// Whether this rank owns the point (x, y) for outputs (the element column holding x is in its slab).
+  bool ownsPoint(double x_m) const;
+  /// Whether this rank owns global node plane i (outputs, point loads).
+  bool ownsNodePlane(size_t i) const { return partition_.ownsNodePlane(i); }
   const SolverOptions& options() const { return options_; }
   double dt() const { return dt_; }
   /// Undamped stability limit 2 / sqrt(lambda_max) (element bound) and the
@@ -110,7 +130,7 @@ class Solver {
   /// Energy the units hold outside the nodal fields (a superstructure's own DOFs), J.
   double unitEnergy() const;
 
-  /// Register a load channel; returns its index.
+  /// Register a load channel (global nodes; a rank keeps the nodes it owns); returns its index.
   size_t addForceChannel(ForceChannel channel);
   /// Values of all channels for the next step (size = channel count).
   void setChannelValues(const std::vector<double>& values);
@@ -128,14 +148,15 @@ class Solver {
   /// Trilinear interpolation of the half-step velocity at a point (x, y, depth).
   void velocityAt(double x, double y, double d, double out[3]) const;
   void displacementAt(double x, double y, double d, double out[3]) const;
-  /// Vertical (down) half-step velocity of every surface node, (nx+1)(ny+1) values, i fastest.
+  /// Vertical (down) half-step velocity of every surface node of the whole mesh, (nx+1)(ny+1) values,
+  /// i fastest; 0 at the nodes this rank does not own (a sum over the ranks gives the field).
   void surfaceVelocityD(std::vector<double>& out) const;
 
   /// Internal force -K u of the kernel's elements for the current displacement (tests: equilibrium, eigen).
   void internalForce(std::vector<double>& f_out) const;
   /// Lumped nodal mass.
   double nodalMass(size_t node) const;
-  /// Sum over the mesh of kinetic energy with the half-step velocity.
+  /// Kinetic energy with the half-step velocity of the nodes this rank owns (the whole mesh on one rank).
   double kineticEnergy() const;
 
   /// The boundary and the stiffness kernel in use.
@@ -152,10 +173,14 @@ class Solver {
   void computeStabilityLimits();
   void chooseStep();
   std::array<std::vector<double>, 3> diagonalDamping() const;
+  void sumSharedPlanes(std::vector<double>& values) const;
 
   std::unique_ptr<SolverExtra> extra_;
-  StructuredMesh mesh_;
+  StructuredMesh global_mesh_;
+  StructuredMesh mesh_;  // this rank's slab
   SolverOptions options_;
+  std::shared_ptr<SoilComm> comm_;
+  SlabPartition partition_;
   std::unique_ptr<SoilBoundary> boundary_;
   ElementBox kernel_box_;
   double dt_ = 0.0, dt_undamped_ = 0.0, dt_damped_ = 0.0, dt_naive_ = 0.0;
