@@ -46,10 +46,10 @@ std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n
 }  // namespace
 
 SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
-                     const std::vector<RigidBodySpec>& bodies)
+                     const std::vector<RigidBodySpec>& bodies, std::shared_ptr<SoilComm> comm)
     : params_(params), sleeper_x_(sleeper_x_m) {
   StructuredMesh mesh = buildMesh(params_.profile, params_.mesh);
-  solver_ = std::make_unique<Solver>(std::move(mesh), params_.solver);
+  solver_ = std::make_unique<Solver>(std::move(mesh), params_.solver, std::move(comm));
   for (const RigidBodySpec& b : bodies) solver_->attachRigidBody(b);
   const StructuredMesh& m = solver_->mesh();
   // Sleeper footprints -> consistent nodal loads (downward = +d).
@@ -124,6 +124,7 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   if (!params_.receivers.empty()) {
     rec_decimator_ = std::make_unique<signal::Decimator>(spec, 3 * params_.receivers.size(), 0.0);
   }
+  for (const ReceiverSpec& r : params_.receivers) rec_owned_.push_back(solver_->ownsPoint(r.x_m) ? 1 : 0);
   rec_prev_.assign(3 * params_.receivers.size(), 0.0);
   rec_now_ = rec_prev_;
   rec_frame_ = rec_prev_;
@@ -134,6 +135,7 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   if (params_.section_enabled) {
     section_i_ =
         static_cast<size_t>(std::clamp(std::lround((params_.section_x_m - m.x0) / m.hx), 0L, static_cast<long>(m.nx)));
+    section_owned_ = solver_->ownsNodePlane(section_i_);
     sect_prev_.assign((m.ny + 1) * (m.nz + 1), 0.0);
     sect_acc_ = sect_prev_;
   }
@@ -188,7 +190,7 @@ nlohmann::json SoilModel::summary() const {
           {"dt_naive_rayleigh_limit_s", s.dtNaiveRayleigh()},
           {"precision", s.options().precision == Precision::Float ? "float" : "double"},
           {"threads", s.options().threads > 0 ? s.options().threads : omp_get_max_threads()},
-          {"memory_bytes", s.memoryBytes() + snapshot_bytes},
+          {"memory_bytes", s.memoryBytes() + snapshot_bytes},  // of this rank
           {"sleepers_loaded", sleeper_x_.size() - dropped_.size()},
           {"sleepers_dropped", dropped_.size()},
           {"sleepers_dropped_in_boundary_zone", dropped_in_zone_},
@@ -197,6 +199,9 @@ nlohmann::json SoilModel::summary() const {
                                              ? nlohmann::json(nullptr)
                                              : nlohmann::json(dropped_nearest_receiver_m_)},
           {"receivers", params_.receivers.size()},
+          {"ranks", s.partition().ranks},
+          {"partition", describePartition(s.partition())},
+          {"local_elements", s.localMesh().elementCount()},
           {"rigid_bodies", bodiesSummary(s)}};
 }
 
@@ -258,8 +263,8 @@ void SoilModel::recordOutputs() {
   // Half-step velocities -> values at t_n = (stepCount - 1) dt by averaging.
   const auto& rec = params_.receivers;
   for (size_t r = 0; r < rec.size(); ++r) {
-    double v[3];
-    solver_->velocityAt(rec[r].x_m, rec[r].y_m, -rec[r].z_m, v);
+    double v[3] = {0.0, 0.0, 0.0};  // another rank's receiver: 0 here, its value after the sum on rank 0
+    if (rec_owned_[r]) solver_->velocityAt(rec[r].x_m, rec[r].y_m, -rec[r].z_m, v);
     rec_now_[3 * r] = v[0];
     rec_now_[3 * r + 1] = v[1];
     rec_now_[3 * r + 2] = -v[2];
@@ -309,7 +314,7 @@ void SoilModel::recordOutputs() {
     snap_count_ = k;
   }
   for (size_t i = 0; i < surf_acc_.size(); ++i) surf_acc_[i] += -0.5 * (surf_prev_[i] + surf_now_[i]);
-  if (params_.section_enabled) {
+  if (params_.section_enabled && section_owned_) {
     const StructuredMesh& m = solver_->mesh();
     size_t q = 0;
     for (size_t k = 0; k <= m.nz; ++k) {
@@ -351,16 +356,27 @@ void SoilModel::takeReceiverSamples(ReceiverBlock& out) {
   for (const auto& r : params_.receivers) out.names.push_back(r.name);
   out.velocity_m_s.swap(rec_out_);
   rec_out_.clear();
+  // Every rank holds its own receivers' frames and zeros for the others: the sum is the block.
+  if (spread() && !out.velocity_m_s.empty())
+    solver_->comm().sumToRoot(out.velocity_m_s.data(), out.velocity_m_s.size());
   rec_out_first_ += out.frames();
 }
 
+bool SoilModel::spread() const { return !solver_->partition().single(); }
+
 void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
-  for (auto& s : snaps_) out.push_back(std::move(s));
+  for (auto& s : snaps_) {
+    if (spread()) solver_->comm().sumToRoot(s.vz_up_m_s.data(), s.vz_up_m_s.size());
+    out.push_back(std::move(s));
+  }
   snaps_.clear();
 }
 
 void SoilModel::takeSectionSnapshots(std::vector<SectionSnapshot>& out) {
-  for (auto& s : section_snaps_) out.push_back(std::move(s));
+  for (auto& s : section_snaps_) {
+    if (spread()) solver_->comm().sumToRoot(s.vz_up_m_s.data(), s.vz_up_m_s.size());
+    out.push_back(std::move(s));
+  }
   section_snaps_.clear();
 }
 

@@ -56,6 +56,7 @@ void readMesh(const ConfigNode& mesh, SoilParams& p) {
   p.solver.precision =
       mesh.choice("precision", {"float", "double"}, "float") == "float" ? Precision::Float : Precision::Double;
   p.solver.threads = static_cast<int>(mesh.integer("threads", 0, 256, 0));
+  p.solver.ranks = static_cast<int>(mesh.integer("ranks", 0, 4096, 0));
   p.solver.kernel = kernelFromName(mesh.choice("kernel", {"element", "stencil"}, "element"));
   p.max_memory_gb = mesh.number("max_memory_gb", Range::open(0.0, 1e4), 12.0);
 }

@@ -72,8 +72,12 @@ class SoilModel {
   /// boundary that takes no loads (a PML), are an error or dropped (params.loads_outside_mesh).
   /// load_sample_rate_hz: rate of the load stream (the track's track.output.load_sample_rate_hz).
   /// Throws ConfigError / std::invalid_argument.
+  /// comm: the ranks the soil is spread over (soil_comm.hpp; null = one rank). Spread over ranks, every
+  /// rank constructs the model with the same arguments and calls the same methods in the same order
+  /// (pushLoads, advance, finishRun, take*: they are collective); the take* results are complete on
+  /// rank 0 only (SoilDriver, soil_driver.hpp, lets rank 0 alone be driven from outside).
   SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
-            const std::vector<RigidBodySpec>& bodies = {});
+            const std::vector<RigidBodySpec>& bodies = {}, std::shared_ptr<SoilComm> comm = nullptr);
   ~SoilModel();
 
   const Solver& solver() const { return *solver_; }
@@ -119,6 +123,7 @@ class SoilModel {
 
  private:
   void recordOutputs();
+  bool spread() const;
 
   SoilParams params_;
   std::vector<double> sleeper_x_;
@@ -130,6 +135,8 @@ class SoilModel {
   std::unique_ptr<signal::StreamInterpolator> loads_;
   SampleIndexTracker load_tracker_{"soil_loads"};
   std::unique_ptr<signal::Decimator> rec_decimator_;
+  std::vector<char> rec_owned_;  // per receiver: this rank computes it
+  bool section_owned_ = true;
   std::vector<double> rec_prev_, rec_now_, rec_frame_, rec_out_;
   uint64_t rec_out_first_ = 0;
   std::vector<double> surf_prev_, surf_now_, surf_acc_;
