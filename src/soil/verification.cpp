@@ -355,6 +355,89 @@ std::vector<ThroughputResult> runThroughput(const ThroughputSpec& spec) {
 }
 
 namespace {
+// A surface point load in the middle of the box, on the nodes this rank owns (the channel is global).
+void addCentreLoad(Solver& s) {
+  const StructuredMesh& m = s.mesh();
+  ForceChannel ch;
+  for (size_t j = m.ny / 2 - 1; j <= m.ny / 2 + 1; ++j) {
+    for (size_t i = m.nx / 2 - 1; i <= m.nx / 2 + 1; ++i) {
+      ch.nodes.push_back(m.node(i, j, 0));
+      ch.components.push_back(2);
+      ch.weights.push_back(1.0 / 9.0);
+    }
+  }
+  s.addForceChannel(ch);
+}
+
+void drive(Solver& s, int steps) {
+  for (int n = 0; n < steps; ++n) {
+    const double t = s.time();
+    s.setChannelValues({1.0e4 * std::sin(2.0 * M_PI * 30.0 * t)});
+    s.step();
+  }
+}
+}  // namespace
+
+RankScalingResult runRankScaling(const RankScalingSpec& spec, const std::shared_ptr<SoilComm>& comm) {
+  if (spec.steps < 1 || spec.repeat < 1) throw std::invalid_argument("rank scaling: nothing to run");
+  SolverOptions o = spec.options;
+  o.ranks = 0;
+  std::unique_ptr<Solver> one;
+  if (comm->root()) {
+    one = std::make_unique<Solver>(spec.mesh, o, serialSoilComm());
+    addCentreLoad(*one);
+    drive(*one, 2);
+  }
+  Solver spread(spec.mesh, o, comm);
+  addCentreLoad(spread);
+  drive(spread, 2);
+  std::vector<double> one_s, spread_s, ratio;
+  const uint64_t bytes0 = comm->haloBytesSent(), ex0 = comm->haloExchanges();
+  const double wait0 = comm->haloWaitSeconds();
+  double spread_total_s = 0.0;
+  for (int rep = 0; rep < spec.repeat; ++rep) {
+    if (comm->root()) {
+      const double t0 = omp_get_wtime();
+      drive(*one, spec.steps);
+      one_s.push_back((omp_get_wtime() - t0) / spec.steps);
+    }
+    comm->waitQuietly();
+    comm->barrier();
+    const double t0 = omp_get_wtime();
+    drive(spread, spec.steps);
+    comm->barrier();
+    const double el = omp_get_wtime() - t0;
+    spread_total_s += el;
+    if (comm->root()) {
+      spread_s.push_back(el / spec.steps);
+      ratio.push_back(one_s.back() / spread_s.back());
+    }
+  }
+  RankScalingResult r;
+  r.ranks = comm->size();
+  r.elements = spec.mesh.elementCount();
+  r.cuts = spread.partition().cuts;
+  const double exchanges = static_cast<double>(comm->haloExchanges() - ex0);
+  const double mine[2] = {exchanges > 0 ? static_cast<double>(comm->haloBytesSent() - bytes0) / exchanges : 0.0,
+                          (comm->haloWaitSeconds() - wait0) / spread_total_s};
+  std::vector<double> all;
+  comm->allGather(mine, 2, all);
+  for (size_t q = 0; q < all.size(); q += 2) {
+    r.halo_bytes_per_step.push_back(all[q]);
+    r.halo_wait_fraction.push_back(all[q + 1]);
+  }
+  if (comm->root()) {
+    r.one_rank_step_s = medianOf(one_s);
+    r.spread_step_s = medianOf(spread_s);
+    r.speedup = medianOf(ratio);
+    r.min_speedup = *std::min_element(ratio.begin(), ratio.end());
+    r.max_speedup = *std::max_element(ratio.begin(), ratio.end());
+    r.one_rank_seconds_per_element_step = r.one_rank_step_s / static_cast<double>(r.elements);
+  }
+  return r;
+}
+
+namespace {
 
 // kChains independent chains acc = acc * a + b of one native vector each: enough to fill the FMA pipes
 // (2 pipes x 4 cycles latency on current cores). Returns the lane sum, so that nothing is optimised away.

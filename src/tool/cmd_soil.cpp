@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -391,13 +392,72 @@ void benchLamb(const BenchArgs& a, json& out) {
   if (a.p.has("csv") && !a.p.get("csv").empty()) writeLambCsv(a.p.get("csv"), r);
 }
 
+// Strong scaling over MPI ranks on the configured (Haren) mesh: run under mpirun -np N (docs/soil.md,
+// "MPI ranks"). Rank 0 prints; the table goes to stderr.
+void benchRanks(const BenchArgs& a, json& out) {
+  const std::shared_ptr<SoilComm> comm = worldSoilComm();
+  const Config cfg = loadConfig(a.p);
+  const SoilParams sp = loadSoilParams(cfg.root());
+  RankScalingSpec spec;
+  spec.mesh = buildMesh(sp.profile, sp.mesh);
+  spec.options = sp.solver;
+  spec.options.threads = static_cast<int>(a.p.getInt("rank-threads"));
+  if (spec.options.threads < 1) throw ArgError("soil-bench: --rank-threads must be at least 1");
+  spec.options.precision = a.precisions.front();
+  spec.steps = static_cast<int>(a.p.getInt("steps"));
+  spec.repeat = static_cast<int>(a.p.getInt("repeat"));
+  const RankScalingResult r = runRankScaling(spec, comm);
+  const StructuredMesh& m = spec.mesh;
+  out["config"] = cfg.file();
+  out["mesh"] = {{"nx", m.nx}, {"ny", m.ny}, {"nz", m.nz}, {"elements", r.elements}};
+  out["ranks"] = r.ranks;
+  out["threads_per_rank"] = spec.options.threads;
+  out["kernel"] = kernelName(spec.options.kernel);
+  out["boundary"] = boundaryMethodName(spec.options.boundary.method);
+  out["precision"] = precisionName(spec.options.precision);
+  out["slab_cuts"] = r.cuts;
+  out["one_rank_step_s"] = r.one_rank_step_s;
+  out["spread_step_s"] = r.spread_step_s;
+  out["speedup"] = r.speedup;
+  out["speedup_min_max"] = {r.min_speedup, r.max_speedup};
+  out["parallel_efficiency"] = r.speedup / r.ranks;
+  out["halo_bytes_per_step_per_rank"] = r.halo_bytes_per_step;
+  out["halo_wait_fraction_per_rank"] = r.halo_wait_fraction;
+  out["one_rank_seconds_per_element_step"] = r.one_rank_seconds_per_element_step;
+  out["steps"] = spec.steps;
+  out["repeat"] = spec.repeat;
+  out["note"] =
+      "medians over repeats; each repeat times the whole mesh on rank 0 alone (the other ranks sleep), then the "
+      "mesh over all ranks (rank 0's wall clock between barriers); speedup = median of the repeats' ratios; "
+      "halo bytes = the shared node planes' forces sent per step; wait fraction = time in the halo wait / step";
+  if (!comm->root()) return;
+  std::ostringstream t;
+  t << std::fixed << std::setprecision(3) << "soil ranks: mesh " << m.nx << " x " << m.ny << " x " << m.nz << " = "
+    << r.elements << " elements, " << r.ranks << " ranks x " << spec.options.threads << " thread(s), "
+    << kernelName(spec.options.kernel) << " kernel, " << boundaryMethodName(spec.options.boundary.method) << "\n"
+    << "  one rank " << 1e3 * r.one_rank_step_s << " ms/step, " << r.ranks << " ranks " << 1e3 * r.spread_step_s
+    << " ms/step: speed-up " << std::setprecision(2) << r.speedup << " (min " << r.min_speedup << ", max "
+    << r.max_speedup << "), efficiency " << r.speedup / r.ranks << "\n";
+  for (size_t q = 0; q < r.halo_bytes_per_step.size(); ++q) {
+    t << "  rank " << q << ": element columns [" << r.cuts[q] << ", " << r.cuts[q + 1] << "), halo "
+      << std::setprecision(1) << r.halo_bytes_per_step[q] / 1e3 << " kB sent per step, waiting "
+      << 100.0 * r.halo_wait_fraction[q] << " % of the step\n";
+  }
+  std::cerr << t.str();
+}
+
 struct BenchCase {
   const char* name;
   void (*run)(const BenchArgs&, json&);
 };
 const BenchCase kBenchCases[] = {
-    {"column", benchColumn}, {"damping", benchDamping},       {"throughput", benchThroughput},
-    {"lamb", benchLamb},     {"reflection", benchReflection}, {"reflection-layered", benchReflectionLayered},
+    {"ranks", benchRanks},
+    {"column", benchColumn},
+    {"damping", benchDamping},
+    {"throughput", benchThroughput},
+    {"lamb", benchLamb},
+    {"reflection", benchReflection},
+    {"reflection-layered", benchReflectionLayered},
 };
 
 std::string benchCaseList() {
@@ -424,7 +484,8 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("repeat", "throughput: measurements (median reported)", "5");
   p.option("kernel", "throughput: stiffness kernels side by side, comma-separated (element | stencil)",
            "element,stencil");
-  p.option("precision", "float | double | both", "both");
+  p.option("precision", "float | double | both (ranks: the first)", "both");
+  p.option("rank-threads", "ranks: OpenMP threads per rank", "1");
   p.option("small-box", "reflection: half width and depth of the small box (m)", "8");
   p.option("layer", "reflection: absorbing layer thicknesses (m), comma-separated", "4");
   p.option("alpha", "reflection: layer alpha at the outer face (1/s), comma-separated; 0 = enlarged box, no layer",
@@ -453,7 +514,7 @@ int soilBench(const std::vector<std::string>& args) {
     json out;
     out["case"] = which;
     c.run(bench, out);
-    printJson(out);
+    if (worldSoilComm()->root()) printJson(out);  // under mpirun (case ranks): rank 0 prints
     return 0;
   }
   throw ArgError("soil-bench: unknown case '" + which + "' (" + benchCaseList() + ")");
@@ -533,23 +594,31 @@ int soilRun(const std::vector<std::string>& args) {
     throw std::runtime_error(p.get("loads") + ": " + std::to_string(ns) + " sleeper columns but " +
                              std::to_string(sleeper_x.size()) + " sleeper positions");
   }
-  std::filesystem::create_directories(p.get("out"));
+  // Under mpirun every rank runs this command with the same arguments (it reads the same inputs: on
+  // several hosts they must be readable on each) and holds a slab of the mesh; rank 0 alone writes.
+  const std::shared_ptr<SoilComm> comm = worldSoilComm();
+  const bool is_root = comm->root();
   const std::string dir = p.get("out");
+  if (is_root) std::filesystem::create_directories(dir);
 
   const auto wall0 = std::chrono::steady_clock::now();
   // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
-  SoilModel model(params, sleeper_x, rate, coupling::attachedBodies(cfg.root(), params));
+  SoilModel model(params, sleeper_x, rate, coupling::attachedBodies(cfg.root(), params), comm);
   nlohmann::json summary = model.summary();
-  std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
-            << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
-            << " s (undamped limit " << summary["dt_undamped_limit_s"] << ", naive Rayleigh limit "
-            << summary["dt_naive_rayleigh_limit_s"] << "), memory " << summary["memory_bytes"].get<double>() / 1e9
-            << " GB\n";
-  for (const auto& l : summary["layers"]) {
+  // Each rank's memory; the summary reports the largest.
+  summary["memory_bytes"] = comm->maximum(summary["memory_bytes"].get<double>());
+  if (is_root)
+    std::cerr << "soil: mesh " << summary["nx"] << " x " << summary["ny"] << " x " << summary["nz"] << " = "
+              << summary["elements"] << " elements, " << summary["dofs"] << " DOFs, dt = " << model.dt()
+              << " s (undamped limit " << summary["dt_undamped_limit_s"] << ", naive Rayleigh limit "
+              << summary["dt_naive_rayleigh_limit_s"] << "), memory " << summary["memory_bytes"].get<double>() / 1e9
+              << " GB\n";
+  if (is_root && comm->size() > 1) std::cerr << "soil: " << summary["partition"].get<std::string>() << "\n";
+  for (const auto& l : is_root ? summary["layers"] : nlohmann::json::array()) {
     std::cerr << "  layer " << l["top_m"] << "-" << l["bottom_m"] << " m: " << l["levels"] << " levels of " << l["dz_m"]
               << " m, Vs " << l["vs_m_s"] << " m/s, resolved up to " << l["resolved_hz"] << " Hz\n";
   }
-  if (!model.droppedSleepers().empty()) std::cerr << "soil: " << model.droppedLoadsNote() << "\n";
+  if (is_root && !model.droppedSleepers().empty()) std::cerr << "soil: " << model.droppedLoadsNote() << "\n";
   std::vector<double> frame;
   frame.reserve(loads.rows.size() * ns);
   for (const auto& r : loads.rows) frame.insert(frame.end(), r.begin() + 1, r.end());
@@ -560,13 +629,21 @@ int soilRun(const std::vector<std::string>& args) {
   for (const auto& r : model.receivers()) {
     for (const char* c : {"_vx_m_s", "_vy_m_s", "_vz_m_s"}) cols.push_back(r.name + c);
   }
-  io::CsvWriter rcsv(dir + "/receivers.csv", cols);
+  std::optional<io::CsvWriter> rcsv;
+  if (is_root) rcsv.emplace(dir + "/receivers.csv", cols);
   std::vector<SurfaceSnapshot> snaps;
   std::vector<SectionSnapshot> sections;
   ReceiverBlock block;
   std::vector<double> peak(model.receivers().size(), 0.0), tpeak(model.receivers().size(), 0.0);
   auto drain = [&]() {
-    model.takeReceiverSamples(block);
+    model.takeReceiverSamples(block);  // collective: complete on rank 0
+    model.takeSnapshots(snaps);
+    model.takeSectionSnapshots(sections);
+    if (!is_root) {
+      snaps.clear();
+      sections.clear();
+      return;
+    }
     const size_t nr = block.names.size();
     for (size_t f = 0; f < block.frames(); ++f) {
       std::vector<double> row{static_cast<double>(block.first_index + f) / block.rate_hz};
@@ -578,10 +655,8 @@ int soilRun(const std::vector<std::string>& args) {
           tpeak[r] = row[0];
         }
       }
-      rcsv.row(row);
+      rcsv->row(row);
     }
-    model.takeSnapshots(snaps);
-    model.takeSectionSnapshots(sections);
   };
   const double chunk = 0.05;
   double next_report = 0.0;
@@ -589,7 +664,7 @@ int soilRun(const std::vector<std::string>& args) {
   model.finishRun(duration, chunk, [&] {
     drain();
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_step0).count();
-    if (el >= next_report || model.time() >= duration - 1e-12) {
+    if (is_root && (el >= next_report || model.time() >= duration - 1e-12)) {
       const double frac = std::min(1.0, model.time() / duration);
       std::cerr << "soil: t = " << model.time() << " / " << duration << " s (" << std::round(1000 * frac) / 10
                 << " %), elapsed " << std::round(el) << " s, ETA " << std::round(el * (1 - frac) / std::max(frac, 1e-9))
@@ -599,7 +674,16 @@ int soilRun(const std::vector<std::string>& args) {
     return true;
   });
   drain();
-  rcsv.commit();
+  const double rss_gb = comm->maximum(peakRssGb());
+  double cpu_s = 0.0;
+  {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    cpu_s = u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
+    comm->sumToRoot(&cpu_s, 1);
+  }
+  if (!is_root) return 0;
+  rcsv->commit();
   writeSnapshots(dir + "/surface_vz.snap", snaps);
   if (!sections.empty()) writeSectionSnapshots(dir + "/section_vz.snap", sections);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
@@ -614,12 +698,9 @@ int soilRun(const std::vector<std::string>& args) {
   summary["stepping_wall_s"] = step_wall;
   summary["element_updates_per_s"] = static_cast<double>(model.solver().stepCount()) *
                                      static_cast<double>(model.solver().mesh().elementCount()) / step_wall;
-  summary["peak_rss_gb"] = peakRssGb();
+  summary["peak_rss_gb"] = rss_gb;  // the largest rank's
   {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    const double cpu_s = u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
-    summary["cpu_s"] = cpu_s;
+    summary["cpu_s"] = cpu_s;  // all ranks
     summary["element_updates_per_cpu_s"] = static_cast<double>(model.solver().stepCount()) *
                                            static_cast<double>(model.solver().mesh().elementCount()) / cpu_s;
   }

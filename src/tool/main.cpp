@@ -5,6 +5,7 @@
 #include "railvib/common/args.hpp"
 #include "railvib/common/config.hpp"
 #include "railvib/common/version.hpp"
+#include "railvib/soil/soil_comm.hpp"
 
 namespace railvib::tool {
 std::map<std::string, CommandInfo>& commandRegistry() {
@@ -41,16 +42,25 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<std::string> args(argv + 2, argv + argc);
+  // Under mpirun (soil, soil-bench ranks) an error on one rank stops every rank: the others would wait
+  // in the next exchange for ever.
+  auto fail = [&](int code) {
+    if (railvib::soil::startedByMpiLauncher()) {
+      const auto world = railvib::soil::worldSoilComm();
+      if (world->size() > 1) world->abort("railvib_tool " + command + " failed on this rank (above)", code);
+    }
+    return code;
+  };
   try {
     return it->second.run(args);
   } catch (const railvib::ConfigError& e) {
     std::cerr << e.what() << "\n";
-    return 3;
+    return fail(3);
   } catch (const railvib::ArgError& e) {
     std::cerr << e.what() << "\n";
-    return 2;
+    return fail(2);
   } catch (const std::exception& e) {
     std::cerr << "railvib_tool " << command << ": error: " << e.what() << "\n";
-    return 1;
+    return fail(1);
   }
 }

@@ -112,6 +112,11 @@ class Cases:
         check("element" in kernels, s["float"].keys())
         for k in kernels:
             check(s["float"][k]["threads_1"]["median_element_updates_per_s"] > 0, s["float"][k])
+        # Without mpirun the rank bench runs on one rank: no cut, no halo, both timings of the same mesh.
+        s = self.run("soil-bench", "ranks", "--config", CI, "--steps", 3, "--repeat", 1, "--precision", "float")
+        check(s["ranks"] == 1 and s["halo_bytes_per_step_per_rank"] == [0], s)
+        check(s["slab_cuts"][0] == 0 and s["slab_cuts"][-1] == s["mesh"]["nx"], s)
+        check(s["one_rank_step_s"] > 0 and s["spread_step_s"] > 0, s)
         s = self.run("soil-bench", "column", "--precision", "float")
         check(abs(s["float"]["velocity_error"]) < 0.05, s)
         s = self.run("soil-bench", "damping", "--precision", "float")

@@ -2,11 +2,13 @@
 // `railvib_tool soil-bench` (column, damping decay, throughput, Lamb).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "railvib/soil/kernel.hpp"
 #include "railvib/soil/mesh.hpp"
+#include "railvib/soil/soil_comm.hpp"
 #include "railvib/soil/solver.hpp"
 
 namespace railvib::soil {
@@ -86,6 +88,32 @@ struct ThroughputResult {
   double kernel_ratio_to_first = 1.0;
 };
 std::vector<ThroughputResult> runThroughput(const ThroughputSpec& spec);
+
+/// Strong scaling over MPI ranks (docs/soil.md, "MPI ranks"), run by every rank of `comm`: each repeat
+/// first times `steps` steps of the whole mesh on rank 0 alone (one rank, no MPI; the others sleep in a
+/// quiet barrier), then `steps` steps of the mesh spread over all ranks. A point load drives the surface
+/// so that the fields are not zero. Figures of the spread run are rank 0's wall clock between barriers.
+struct RankScalingSpec {
+  StructuredMesh mesh;
+  SolverOptions options;  // threads = OpenMP threads per rank
+  int steps = 20;
+  int repeat = 5;
+};
+
+struct RankScalingResult {
+  int ranks = 1;
+  size_t elements = 0;
+  std::vector<size_t> cuts;      // the slabs' element columns
+  double one_rank_step_s = 0.0;  // median, whole mesh on one rank
+  double spread_step_s = 0.0;    // median, the mesh over the ranks
+  double speedup = 0.0;          // median of the repeats' ratios one_rank / spread
+  double min_speedup = 0.0, max_speedup = 0.0;
+  std::vector<double> halo_bytes_per_step;  // sent per step, per rank
+  std::vector<double> halo_wait_fraction;   // per rank: of the step, waiting for the neighbours' planes
+  double one_rank_seconds_per_element_step = 0.0;
+};
+/// Collective over comm (every rank calls it with the same spec); the result is complete on rank 0.
+RankScalingResult runRankScaling(const RankScalingSpec& spec, const std::shared_ptr<SoilComm>& comm);
 
 /// Fused multiply-add peak of this machine (independent register FMAs in the widest vectors the stiffness
 /// kernels use), GFLOP/s (2 flops per FMA), with `threads` threads, median of `repeat` runs of ~0.1 s.
