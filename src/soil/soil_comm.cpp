@@ -38,6 +38,7 @@ class SerialComm final : public SoilComm {
     if (bytes_low != 0 || bytes_high != 0) throw std::logic_error("serial soil communicator: no neighbours");
   }
   void finishExchange() override {}
+  void progressExchange() override {}
   void broadcast(void*, size_t) override {}
   void sumToRoot(double*, size_t) override {}
   void sumToRoot(float*, size_t) override {}
@@ -118,6 +119,11 @@ class MpiComm final : public SoilComm {
     check(MPI_Waitall(pending_, req_, MPI_STATUSES_IGNORE), "MPI_Waitall (halo exchange)");
     halo_wait_s_ += MPI_Wtime() - t0;
     pending_ = 0;
+  }
+  void progressExchange() override {
+    if (pending_ == 0) return;
+    int done = 0;
+    check(MPI_Testall(pending_, req_, &done, MPI_STATUSES_IGNORE), "MPI_Testall (halo exchange)");
   }
   void broadcast(void* data, size_t bytes) override {
     check(MPI_Bcast(data, checkedCount(bytes), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast");

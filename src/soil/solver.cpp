@@ -57,6 +57,8 @@ struct ImplT : Solver::Impl {
   // (their forces are sent) and the interior while the messages travel.
   std::vector<std::unique_ptr<StiffnessKernel<Real>>> edge_kernels;
   std::unique_ptr<StiffnessKernel<Real>> kernel;
+  // Over ranks: the interior in pieces along y, the halo exchange advanced between them.
+  std::vector<std::unique_ptr<StiffnessKernel<Real>>> interior_kernels;
   SoilComm* comm = nullptr;  // null on one rank
   SlabPartition partition;
   std::vector<Real> send_low, send_high, recv_low, recv_high;
@@ -137,7 +139,17 @@ struct ImplT : Solver::Impl {
       if (!edge.empty()) edge_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, edge, threads));
       interior.i1 = std::min(interior.i1, mesh->nx - 1);
     }
-    if (!interior.empty()) kernel = makeStiffnessKernel<Real>(kind, *mesh, interior, threads);
+    // Pieces along y keep the kernel's lines (along x) whole; a few pieces are enough for the exchange to
+    // finish behind the interior work.
+    constexpr size_t kInteriorPieces = 4;
+    if (interior.empty()) return;
+    const size_t ny = interior.j1 - interior.j0, pieces = std::min(kInteriorPieces, ny);
+    for (size_t q = 0; q < pieces; ++q) {
+      ElementBox piece = interior;
+      piece.j0 = interior.j0 + ny * q / pieces;
+      piece.j1 = interior.j0 + ny * (q + 1) / pieces;
+      if (!piece.empty()) interior_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, piece, threads));
+    }
   }
 
   // The shared node planes: local i = 0 (low neighbour) and i = nx (high neighbour), j fastest, then k.
@@ -164,6 +176,7 @@ struct ImplT : Solver::Impl {
   double kernelMultiplyAdds() const override {
     double m = kernel ? kernel->multiplyAddsPerApply() : 0.0;
     for (const auto& k : edge_kernels) m += k->multiplyAddsPerApply();
+    for (const auto& k : interior_kernels) m += k->multiplyAddsPerApply();
     return m;
   }
 
@@ -205,7 +218,10 @@ struct ImplT : Solver::Impl {
       if (partition.hasHigh()) packPlane(mesh->nx, send_high.data());
       comm->startExchange(send_low.data(), recv_low.data(), send_low.size() * sizeof(Real), send_high.data(),
                           recv_high.data(), send_high.size() * sizeof(Real));
-      if (kernel) kernel->apply(in, out);
+      for (const auto& k : interior_kernels) {
+        k->apply(in, out);
+        comm->progressExchange();
+      }
       comm->finishExchange();
       if (partition.hasLow()) addPlane(0, recv_low.data());
       if (partition.hasHigh()) addPlane(mesh->nx, recv_high.data());
@@ -260,6 +276,7 @@ struct ImplT : Solver::Impl {
     Real* out[3] = {tmp[0].data(), tmp[1].data(), tmp[2].data()};
     if (kernel) kernel->apply(in, out);
     for (const auto& k : edge_kernels) k->apply(in, out);
+    for (const auto& k : interior_kernels) k->apply(in, out);
     out_f.resize(3 * n);
     for (size_t i = 0; i < n; ++i) {
       for (int d = 0; d < 3; ++d) out_f[3 * i + static_cast<size_t>(d)] = static_cast<double>(tmp[d][i]);

@@ -36,6 +36,9 @@ class SoilComm {
   virtual void startExchange(const void* send_low, void* recv_low, size_t bytes_low, const void* send_high,
                              void* recv_high, size_t bytes_high) = 0;
   virtual void finishExchange() = 0;
+  /// Let an exchange in flight advance (MPI moves a message above the eager size only inside an MPI
+  /// call, so the solver calls this between pieces of the interior work); never blocks.
+  virtual void progressExchange() = 0;
 
   /// Broadcast bytes from rank 0 (every rank passes a buffer of the same size).
   virtual void broadcast(void* data, size_t bytes) = 0;
