@@ -38,6 +38,7 @@ class SerialComm final : public SoilComm {
     if (bytes_low != 0 || bytes_high != 0) throw std::logic_error("serial soil communicator: no neighbours");
   }
   void finishExchange() override {}
+  int ranksOnThisHost() const override { return 1; }
   void progressExchange() override {}
   void broadcast(void*, size_t) override {}
   void sumToRoot(double*, size_t) override {}
@@ -89,7 +90,13 @@ class MpiComm final : public SoilComm {
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    MPI_Comm host;
+    check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &host),
+          "MPI_Comm_split_type");
+    MPI_Comm_size(host, &host_size_);
+    MPI_Comm_free(&host);
   }
+  int ranksOnThisHost() const override { return host_size_; }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   std::string kind() const override { return "mpi"; }
@@ -170,7 +177,7 @@ class MpiComm final : public SoilComm {
   }
 
  private:
-  int rank_ = 0, size_ = 1;
+  int rank_ = 0, size_ = 1, host_size_ = 1;
   MPI_Request req_[4];
   int pending_ = 0;
 };

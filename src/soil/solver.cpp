@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "rigid_body_unit.hpp"
@@ -339,6 +340,10 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options, std::shared_pt
                                 std::to_string(comm_->size()) + " rank(s) (" + comm_->kind() +
                                 "): start it with mpirun -np " + std::to_string(options_.ranks) +
                                 ", or set soil.mesh.ranks: 0 to take the launcher's count");
+  }
+  if (options_.threads == 0 && comm_->size() > 1 && std::getenv("OMP_NUM_THREADS") == nullptr) {
+    // threads: 0 means all cores; ranks on one host share them.
+    options_.threads = std::max(1, omp_get_num_procs() / comm_->ranksOnThisHost());
   }
   boundary_ = makeSoilBoundary(options_.boundary);
   partition_ =

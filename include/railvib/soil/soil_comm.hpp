@@ -27,6 +27,8 @@ class SoilComm {
   virtual int rank() const = 0;
   virtual int size() const = 0;
   bool root() const { return rank() == 0; }
+  /// Ranks of this communicator on this host (they share its cores).
+  virtual int ranksOnThisHost() const = 0;
   /// "serial" or "mpi".
   virtual std::string kind() const = 0;
 
