@@ -24,6 +24,7 @@
 #include "railvib/common/config.hpp"
 #include "railvib/soil/partition.hpp"
 #include "railvib/soil/soil_comm.hpp"
+#include "railvib/soil/soil_driver.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "railvib/soil/soil_params.hpp"
 #include "railvib/soil/solver.hpp"
@@ -279,23 +280,40 @@ TEST(SoilMpi, RankCountsThatDoNotFitAreRefused) {
 
 // The soil model on 2 ranks: receivers, surface snapshots and the section plane gathered on rank 0
 // equal the one-rank model's to round-off; the loads of the sleepers on the cut counted once.
-TEST(SoilMpi, SoilModelOutputsGatherOnRankZero) {
-  const std::string yaml = railvib::soil::testing::smallScenario(
-      "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
-      "[{name: s2, x_m: 0.0, y_m: 2.0}, {name: s8, x_m: -3.0, y_m: 3.5}, {name: far, x_m: 3.2, y_m: -3.0}]");
-  std::string with_section = yaml;
-  const std::string out = "output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0}";
-  with_section.replace(with_section.find(out), out.size(),
-                       "output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0, section: {x_m: 0.3}}");
-  const SoilParams p = loadSoilParams(railvib::Config::fromString(with_section, "test.yaml").root());
-  const std::vector<double> xs = {-2.16, -1.44, -0.72, 0.0, 0.72, 1.44, 2.16};
-  const size_t frames = 201;
-  std::vector<double> loads(frames * xs.size());
-  for (size_t f = 0; f < frames; ++f) {
-    for (size_t s = 0; s < xs.size(); ++s) {
-      loads[f * xs.size() + s] = 1e4 * std::exp(-std::pow((f / 2000.0 - 0.02 - 0.005 * s) / 0.004, 2));
+// A small scenario with three receivers and a section across the cut, and its sleeper loads.
+struct SmallScenario {
+  std::string yaml;
+  SoilParams params;
+  std::vector<double> sleeper_x_m = {-2.16, -1.44, -0.72, 0.0, 0.72, 1.44, 2.16};
+  size_t frames = 201;
+  std::vector<double> loads;
+
+  static SoilParams paramsOf(const std::string& text) {
+    return loadSoilParams(railvib::Config::fromString(text, "test.yaml").root());
+  }
+  SmallScenario() {
+    yaml = railvib::soil::testing::smallScenario(
+        "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
+        "[{name: s2, x_m: 0.0, y_m: 2.0}, {name: s8, x_m: -3.0, y_m: 3.5}, {name: far, x_m: 3.2, y_m: -3.0}]");
+    const std::string out = "output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0}";
+    yaml.replace(yaml.find(out), out.size(),
+                 "output: {receiver_rate_hz: 1000.0, snapshot_rate_hz: 100.0, section: {x_m: 0.3}}");
+    params = paramsOf(yaml);
+    loads.resize(frames * sleeper_x_m.size());
+    for (size_t f = 0; f < frames; ++f) {
+      for (size_t s = 0; s < sleeper_x_m.size(); ++s) {
+        loads[f * sleeper_x_m.size() + s] = 1e4 * std::exp(-std::pow((f / 2000.0 - 0.02 - 0.005 * s) / 0.004, 2));
+      }
     }
   }
+};
+
+TEST(SoilMpi, SoilModelOutputsGatherOnRankZero) {
+  const SmallScenario sc;
+  const SoilParams& p = sc.params;
+  const std::vector<double>& xs = sc.sleeper_x_m;
+  const size_t frames = sc.frames;
+  const std::vector<double>& loads = sc.loads;
   struct Outputs {
     std::vector<double> rec;
     std::vector<float> snaps, sections;
@@ -353,6 +371,79 @@ TEST(SoilMpi, SoilModelOutputsGatherOnRankZero) {
   // Snapshots are floats: their own rounding (2^-24 of the value) on top.
   EXPECT_LE(maxAbsDiff(s_snap, o_snap), (steps + 1.0) * u * maxAbs(o_snap));
   EXPECT_LE(maxAbsDiff(s_sec, o_sec), (steps + 1.0) * u * maxAbs(o_sec));
+}
+
+// The soil node's way (docs/soil.md, "MPI ranks"): rank 0 alone drives a SoilDriver, the other ranks
+// serve; every collective call must reach them in order, finishRun's slices included.
+TEST(SoilMpi, DriverOnRankZeroAgreesWithOneRank) {
+  const SmallScenario sc;
+  const SoilDriver::Factory factory = [](const std::string& setup, const std::vector<double>& x,
+                                         std::shared_ptr<SoilComm> comm) {
+    return std::make_unique<SoilModel>(SmallScenario::paramsOf(setup), x, 2000.0, std::vector<RigidBodySpec>{},
+                                       std::move(comm));
+  };
+  if (!g_world->root()) {
+    EXPECT_EQ(SoilDriver::serve(g_world, factory), 0);
+    return;
+  }
+  EXPECT_THROW(SoilDriver::serve(g_world, factory), std::logic_error);  // rank 0 drives
+  std::vector<double> rec;
+  size_t snaps = 0, sections = 0, slices = 0;
+  std::string partition;
+  {
+    SoilDriver driver(g_world, factory);
+    driver.create(sc.yaml, sc.sleeper_x_m);
+    partition = driver.model().summary()["partition"].get<std::string>();
+    ReceiverBlock rb;
+    std::vector<SurfaceSnapshot> sn;
+    std::vector<SectionSnapshot> se;
+    auto take = [&] {
+      driver.takeOutputs(rb, sn, se);
+      rec.insert(rec.end(), rb.velocity_m_s.begin(), rb.velocity_m_s.end());
+      snaps += sn.size();
+      sections += se.size();
+    };
+    // A block out of order is refused on rank 0 before the others see it; the run goes on.
+    EXPECT_THROW(driver.pushLoads(7, sc.loads.data(), 1), std::exception);
+    for (size_t f0 = 0; f0 < sc.frames; f0 += 50) {
+      const size_t nf = std::min<size_t>(50, sc.frames - f0);
+      driver.pushLoads(f0, &sc.loads[f0 * sc.sleeper_x_m.size()], nf);
+      driver.advance(driver.model().loadsAvailableUntil());
+      take();
+    }
+    driver.finishLoads();
+    driver.finishRun(0.2, 0.02, [&] {  // the loads end at 0.1 s, then hold
+      ++slices;
+      take();
+      return true;
+    });
+    take();
+  }
+  EXPECT_NE(partition.find("2 ranks"), std::string::npos) << partition;
+  EXPECT_GE(slices, 4u);
+
+  // The same scenario on one rank, driven directly.
+  SoilModel one(sc.params, sc.sleeper_x_m, 2000.0);
+  std::vector<double> rec_one;
+  ReceiverBlock rb;
+  std::vector<SurfaceSnapshot> sn;
+  std::vector<SectionSnapshot> se;
+  one.pushLoads(0, sc.loads.data(), sc.frames);
+  one.finishLoads();
+  one.finishRun(0.2, 1.0);
+  one.takeReceiverSamples(rb);
+  one.takeSnapshots(sn);
+  one.takeSectionSnapshots(se);
+  ASSERT_EQ(rec.size(), rb.velocity_m_s.size());
+  EXPECT_EQ(snaps, sn.size());
+  EXPECT_EQ(sections, se.size());
+  const double peak = maxAbs(rb.velocity_m_s);
+  ASSERT_GT(peak, 0.0);
+  const double steps = 0.2 / one.dt();
+  const double diff = maxAbsDiff(rec, rb.velocity_m_s);
+  std::printf("driver on rank 0, %s: %zu receiver values, max |diff| / peak vs 1 rank %.2e (bound %.2e)\n",
+              partition.c_str(), rec.size(), diff / peak, steps * std::ldexp(1.0, -24));
+  EXPECT_LE(diff, steps * std::ldexp(1.0, -24) * peak);
 }
 
 int main(int argc, char** argv) {
