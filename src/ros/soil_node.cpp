@@ -1,5 +1,7 @@
 #include "railvib/ros/soil_node.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 
 #include "railvib/PointLayout.h"
@@ -14,16 +16,65 @@
 
 namespace railvib::ros_io {
 
-SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
+namespace {
+
+// What every rank needs to build the same soil model: the merged scenario and one node parameter.
+std::string setupText(const Config& config, bool include_footprint) {
+  YAML::Emitter out;
+  out << YAML::BeginMap << YAML::Key << "include_building_footprint" << YAML::Value << include_footprint << YAML::Key
+      << "config_file" << YAML::Value << config.file() << YAML::Key << "config" << YAML::Value << YAML::Literal
+      << config.dump() << YAML::EndMap;
+  return out.c_str();
+}
+
+struct SoilSetup {
+  soil::SoilParams params;
+  std::vector<soil::RigidBodySpec> bodies;  // a two-way house's foundation
+  double load_sample_rate_hz = 0.0;
+};
+
+SoilSetup soilSetup(const ConfigNode& root, bool include_footprint) {
+  SoilSetup s;
+  s.params = soil::loadSoilParams(root, SoilNode::houseReceivers(root, include_footprint));
+  // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
+  if (include_footprint) s.bodies = coupling::attachedBodies(root, s.params);
+  s.load_sample_rate_hz = track::loadTrackParams(root).load_sample_rate_hz;
+  return s;
+}
+
+}  // namespace
+
+soil::SoilDriver::Factory SoilNode::modelFactory() {
+  return [](const std::string& setup, const std::vector<double>& sleeper_x_m, std::shared_ptr<soil::SoilComm> comm) {
+    const YAML::Node s = YAML::Load(setup);
+    const Config config = Config::fromString(s["config"].as<std::string>(), s["config_file"].as<std::string>());
+    const SoilSetup soil_setup = soilSetup(config.root(), s["include_building_footprint"].as<bool>());
+    return std::make_unique<soil::SoilModel>(soil_setup.params, sleeper_x_m, soil_setup.load_sample_rate_hz,
+                                             soil_setup.bodies, std::move(comm));
+  };
+}
+
+int SoilNode::serveOtherRank(std::shared_ptr<soil::SoilComm> comm) {
+  try {
+    return soil::SoilDriver::serve(comm, modelFactory());
+  } catch (const std::exception& e) {
+    // Rank 0 cannot go on without this rank's slab: stop the whole run with the reason.
+    comm->abort("soil rank " + std::to_string(comm->rank()) + ": " + e.what(), 1);
+  }
+  return 1;  // not reached (abort ends the process), for compilers that miss [[noreturn]] on a virtual call
+}
+
+SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, std::shared_ptr<soil::SoilComm> comm)
+    : driver_(std::move(comm), modelFactory()) {
   const Config config = loadNodeConfig(nh);
   bool include_footprint = true;
   int required_subscribers = 1;
   private_nh.param("include_building_footprint", include_footprint, include_footprint);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
-  params_ = soil::loadSoilParams(config.root(), houseReceivers(config.root(), include_footprint));
-  // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
-  if (include_footprint) bodies_ = coupling::attachedBodies(config.root(), params_);
-  load_sample_rate_hz_ = track::loadTrackParams(config.root()).load_sample_rate_hz;
+  const SoilSetup setup = soilSetup(config.root(), include_footprint);
+  params_ = setup.params;
+  load_sample_rate_hz_ = setup.load_sample_rate_hz;
+  setup_ = setupText(config, include_footprint);
   limits_ = loadStreamLimits(config.root());
   status_ = std::make_unique<NodeStatus>(nh, "soil", vehicle::loadPassageParams(config.root()).duration_s);
   velocity_publisher_ =
@@ -52,7 +103,7 @@ soil::HouseReceivers SoilNode::houseReceivers(const ConfigNode& root, bool inclu
 }
 
 void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
-  if (model_) return;
+  if (driver_.created()) return;
   status_->guard([&] {
     const std::string topic = layout_subscriber_.getTopic();
     // !(|d| <= tol) refuses NaN too.
@@ -77,12 +128,13 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
                                   formatValue(expected[i]) + " m");
       }
     }
-    model_ = std::make_unique<soil::SoilModel>(params_, layout->position_m, load_sample_rate_hz_, bodies_);
-    ROS_INFO_STREAM("soil: " << model_->summary().dump());
-    if (!model_->droppedSleepers().empty()) ROS_WARN_STREAM("soil: " << model_->droppedLoadsNote());
+    driver_.create(setup_, layout->position_m);
+    const soil::SoilModel& model = driver_.model();
+    ROS_INFO_STREAM("soil: " << model.summary().dump());
+    if (!model.droppedSleepers().empty()) ROS_WARN_STREAM("soil: " << model.droppedLoadsNote());
     railvib::PointLayout points;
     points.header.frame_id = names::kTrackFrame;
-    for (const auto& r : model_->receivers()) {
+    for (const auto& r : model.receivers()) {
       points.names.push_back(r.name);
       geometry_msgs::Point p;
       p.x = r.x_m;
@@ -108,43 +160,45 @@ void SoilNode::onLoads(const railvib::SoilLoads::ConstPtr& msg) {
 }
 
 void SoilNode::consume(const railvib::SoilLoads& msg) {
-  if (!model_) throw std::runtime_error("soil loads arrived before the sleeper layout");
+  if (!driver_.created()) throw std::runtime_error("soil loads arrived before the sleeper layout");
+  const soil::SoilModel& model = driver_.model();
   BlockContract contract;
   contract.stream = loads_subscriber_.getTopic();
   contract.sample_period_s = 1.0 / load_sample_rate_hz_;
   contract.period_source = "track.output.load_sample_rate_hz = " + formatValue(load_sample_rate_hz_) + " Hz";
   contract.count_field = "sleeper_count";
   contract.point_label = "sleeper";
-  contract.point_count = static_cast<uint32_t>(model_->sleeperCount());
+  contract.point_count = static_cast<uint32_t>(model.sleeperCount());
   contract.point_source = "the sleeper_layout";
   contract.max_block_samples = limits_.max_block_samples;
   validateBlock(
       contract,
       {msg.first_sample_index, msg.end_of_stream != 0, msg.sample_period_s, msg.sample_count, msg.sleeper_count},
       {{"force_n", &msg.force_n, 1, limits_.soil_load_n, "limits.soil_load_n", "N"}});
-  model_->pushLoads(msg.first_sample_index, msg.force_n.data(), msg.sample_count);
+  driver_.pushLoads(msg.first_sample_index, msg.force_n.data(), msg.sample_count);
   status_->countSamples("soil_loads in", msg.sample_count);
   if (msg.end_of_stream) {
-    model_->finishLoads();
+    driver_.finishLoads();
     const double t_end = static_cast<double>(msg.first_sample_index + msg.sample_count - 1) * msg.sample_period_s;
     // Step in slices so outputs and progress flow while the soil catches up.
-    model_->finishRun(t_end, 0.05, [this] {
+    driver_.finishRun(t_end, 0.05, [this, &model] {
       publishOutputs(false);
-      status_->update(model_->time());
+      status_->update(model.time());
       return ros::ok();
     });
     ended_ = true;
     publishOutputs(true);
-    status_->finish(model_->time());
+    status_->finish(model.time());
     return;
   }
-  model_->advance(model_->loadsAvailableUntil());
+  driver_.advance(model.loadsAvailableUntil());
   publishOutputs(false);
-  status_->update(model_->time());
+  status_->update(model.time());
 }
 
 void SoilNode::publishOutputs(bool end_of_stream) {
-  model_->takeReceiverSamples(receivers_);
+  const soil::SoilModel& model = driver_.model();
+  driver_.takeOutputs(receivers_, snapshots_, sections_);
   const size_t frames = receivers_.frames();
   if (frames > 0 || end_of_stream) {
     if (frames > 0 && receivers_.first_index != next_velocity_index_) {
@@ -157,14 +211,12 @@ void SoilNode::publishOutputs(bool end_of_stream) {
     block.end_of_stream = end_of_stream;
     block.sample_period_s = 1.0 / params_.receiver_rate_hz;
     block.sample_count = static_cast<uint32_t>(frames);
-    block.receiver_count = static_cast<uint32_t>(model_->receivers().size());
+    block.receiver_count = static_cast<uint32_t>(model.receivers().size());
     block.velocity_m_s = receivers_.velocity_m_s;
     velocity_publisher_.publish(block);
     next_velocity_index_ += frames;
     status_->countSamples("surface_velocities out", frames);
   }
-  snapshots_.clear();
-  model_->takeSnapshots(snapshots_);
   for (const auto& s : snapshots_) {
     railvib::SurfaceSnapshot msg;
     msg.header.frame_id = names::kTrackFrame;
@@ -179,8 +231,6 @@ void SoilNode::publishOutputs(bool end_of_stream) {
     msg.vertical_velocity_m_s = s.vz_up_m_s;
     snapshot_publisher_.publish(msg);
   }
-  sections_.clear();
-  model_->takeSectionSnapshots(sections_);
   for (const auto& s : sections_) {
     railvib::SectionSnapshot msg;
     msg.header.frame_id = names::kTrackFrame;

@@ -13,6 +13,7 @@ field) is listed, not counted as a difference. Exit status 0 when nothing
 differs, 1 otherwise; one line per topic on stdout.
 """
 import argparse
+import re
 import sys
 
 import rosbag
@@ -30,8 +31,34 @@ def fields(msg):
     return list(getattr(msg, "__slots__", []))
 
 
-def differences(a, b, path=""):
-    """Paths where a and b differ (header.seq ignored), and fields only one side has."""
+def field_name(path):
+    """A field's path without its indices: velocity_m_s[3]. -> velocity_m_s"""
+    return re.sub(r"\[\d+\]", "", path).rstrip(".")
+
+
+def field_peaks(msgs, path="", peaks=None):
+    """The largest |value| of every floating-point field over the messages."""
+    peaks = {} if peaks is None else peaks
+    for m in msgs:
+        slots = fields(m)
+        if slots:
+            for name in slots:
+                field_peaks([getattr(m, name)], path + name + ".", peaks)
+        elif isinstance(m, (list, tuple)):
+            if m and isinstance(m[0], float):
+                key = field_name(path)
+                peaks[key] = max(peaks.get(key, 0.0), max(abs(x) for x in m))
+            else:
+                field_peaks(m, path, peaks)
+        elif isinstance(m, float):
+            key = field_name(path)
+            peaks[key] = max(peaks.get(key, 0.0), abs(m))
+    return peaks
+
+
+def differences(a, b, path="", tolerance=None):
+    """Paths where a and b differ (header.seq ignored), and fields only one side has. tolerance: None
+    (bit for bit) or (relative tolerance, field peaks) for floating-point fields."""
     diffs, one_sided = [], set()
     slots_a, slots_b = fields(a), fields(b)
     if slots_a or slots_b:
@@ -44,7 +71,7 @@ def differences(a, b, path=""):
         for name in slots_a:
             if name not in slots_b or (name == "seq" and path.endswith("header.")):
                 continue
-            d, o = differences(getattr(a, name), getattr(b, name), path + name + ".")
+            d, o = differences(getattr(a, name), getattr(b, name), path + name + ".", tolerance)
             diffs += d
             one_sided |= o
         return diffs, one_sided
@@ -52,19 +79,25 @@ def differences(a, b, path=""):
         if len(a) != len(b):
             return [f"{path.rstrip('.')}: {len(a)} vs {len(b)} entries"], one_sided
         for i, (x, y) in enumerate(zip(a, b)):
-            d, o = differences(x, y, f"{path.rstrip('.')}[{i}].")
+            d, o = differences(x, y, f"{path.rstrip('.')}[{i}].", tolerance)
             diffs += d
             one_sided |= o
             if len(diffs) > 5:
                 break
+        return diffs, one_sided
+    if tolerance is not None and isinstance(a, float) and isinstance(b, float):
+        rel, peaks = tolerance
+        bound = rel * peaks.get(field_name(path), 0.0)
+        if abs(a - b) > bound:
+            return [f"{path.rstrip('.')}: {a!r} vs {b!r} (bound {bound:.3g})"], one_sided
         return diffs, one_sided
     if a != b:
         return [f"{path.rstrip('.')}: {a!r} vs {b!r}"], one_sided
     return diffs, one_sided
 
 
-def compare_topic(bag_a, bag_b, topic):
-    """(ok, report line) for one topic."""
+def compare_topic(bag_a, bag_b, topic, relative_tolerance=None):
+    """(ok, report line) for one topic; relative_tolerance: see the module's text (None: bit for bit)."""
     a, b = messages(bag_a, topic), messages(bag_b, topic)
     # Messages of several sensors on one topic (/sensor_metrics) interleave in the order they were
     # published, which depends on which input stream arrived first: each sensor's own sequence is
@@ -77,13 +110,15 @@ def compare_topic(bag_a, bag_b, topic):
     if len(a) != len(b):
         return False, f"{topic}: {len(a)} vs {len(b)} messages"
     one_sided = set()
+    tolerance = None if relative_tolerance is None else (relative_tolerance, field_peaks(a))
     for k, (x, y) in enumerate(zip(a, b)):
-        d, o = differences(x, y)
+        d, o = differences(x, y, tolerance=tolerance)
         one_sided |= o
         if d:
             return False, f"{topic}: message {k} differs: " + "; ".join(d[:5])
     extra = f" (fields on one side only, not compared: {', '.join(sorted(one_sided))})" if one_sided else ""
-    return True, f"{topic}: {len(a)} messages identical{extra}"
+    same = "identical" if tolerance is None else f"equal within {relative_tolerance:g} of each field's peak"
+    return True, f"{topic}: {len(a)} messages {same}{extra}"
 
 
 def main(argv):
@@ -92,11 +127,13 @@ def main(argv):
     parser.add_argument("bag_b")
     parser.add_argument("--topics", default=",".join(STREAMS), help="streams to compare (comma-separated)")
     parser.add_argument("--metrics", default=METRICS, help="metrics topic ('' to skip)")
+    parser.add_argument("--relative-tolerance", type=float, default=None,
+                        help="floating-point fields within this fraction of the field's peak (default: bit for bit)")
     args = parser.parse_args(argv[1:])
     topics = [t for t in args.topics.split(",") if t] + ([args.metrics] if args.metrics else [])
     ok = True
     for topic in topics:
-        same, line = compare_topic(args.bag_a, args.bag_b, topic)
+        same, line = compare_topic(args.bag_a, args.bag_b, topic, args.relative_tolerance)
         ok = ok and same
         print(line)
     print("identical" if ok else "DIFFERENT")

@@ -9,6 +9,9 @@
   streams that stopped named by the bag check);
 - a truncated bag given to replay.launch is refused with a clear error and a
   non-zero exit, not a crash;
+- the soil over 2 MPI ranks (soil_ranks:=2): the same bag as one rank to float round-off; one rank
+  killed mid-run stops the launch and leaves a readable bag that names the cut streams; an mpirun
+  that does not exist is a clear error;
 - `./railvib run` exits 0 on a good run (with its report) and non-zero on a refused one;
 - with ROS_IP=127.0.0.1 every listening socket of every process of a launch
   (master, rosout, the railvib nodes) is bound to loopback (`ss -ltnp`);
@@ -26,6 +29,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import unittest
 import xml.etree.ElementTree as ET
@@ -112,6 +116,76 @@ class ScenarioChecks(unittest.TestCase):
         for topic in STREAMS + [names.SENSOR_METRICS]:
             same, line = compare_topic(bags[0], bags[1], topic)
             self.assertTrue(same, line)
+
+    # The soil's MPI ranks under roslaunch (docs/soil.md, "MPI ranks"). As root (containers, CI) OpenMPI
+    # wants to be told; 2 ranks beside the other nodes on a 2-core machine need --oversubscribe.
+    MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1", "OMP_NUM_THREADS": "1"}
+    MPIRUN = "soil_mpirun:=mpirun --oversubscribe"
+    # 1 vs 2 ranks: float round-off of the CI run's 3000 soil steps (0.5 s at 1/6000 s), bounded as the
+    # solver's rank test does: steps x 2^-24 of each field's peak (test/mpi/test_soil_mpi.cpp).
+    RANKS_TOLERANCE = 3000 * 2.0 ** -24
+
+    def test_soil_on_two_ranks_agrees_with_one_rank(self):
+        one = haren_run(self, "a")
+        bag = WORK / "ranks2.bag"
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag), "soil_ranks:=2",
+                            self.MPIRUN], env_extra=self.MPI_ENV)
+        self.assertEqual(code, 0, out[-3000:])
+        self.assertIn('"partition":"2 ranks, element columns', out, "the soil did not run on 2 ranks")
+        checked = bag_check.check_bag(bag)
+        self.assertEqual(checked.code, 0, f"{checked.refused} {checked.findings}")
+        # Upstream of the soil nothing changes; the soil's outputs and everything after agree to round-off.
+        for topic in (names.CONTACT_FORCES, names.SOIL_LOADS):
+            same, line = compare_topic(one, bag, topic)
+            self.assertTrue(same, line)
+        for topic in [t for t in STREAMS if t not in (names.CONTACT_FORCES, names.SOIL_LOADS)] + [names.SENSOR_METRICS]:
+            same, line = compare_topic(one, bag, topic, self.RANKS_TOLERANCE)
+            self.assertTrue(same, line)
+
+    def test_killed_soil_rank_stops_the_launch_and_leaves_a_readable_bag(self):
+        bag = WORK / "rank_killed.bag"
+        killed = []
+
+        def kill_rank_1(proc, env):
+            # The soil process that is MPI rank 1 (no ROS node of its own: rosnode cannot reach it).
+            def run():
+                deadline = time.time() + 120.0
+                while time.time() < deadline and proc.poll() is None and not killed:
+                    for pid in subprocess.run(["pgrep", "-f", "lib/railvib/soil_node"], capture_output=True,
+                                              text=True).stdout.split():
+                        try:
+                            environ = pathlib.Path(f"/proc/{pid}/environ").read_bytes().split(b"\0")
+                        except OSError:
+                            continue
+                        if b"OMPI_COMM_WORLD_RANK=1" in environ:
+                            time.sleep(2.0)
+                            os.kill(int(pid), signal.SIGKILL)
+                            killed.append(pid)
+                            return
+                    time.sleep(0.1)
+
+            threading.Thread(target=run, daemon=True).start()
+
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "duration:=3.0", "bag:=" + str(bag),
+                            "soil_ranks:=2", self.MPIRUN], timeout_s=300, env_extra=self.MPI_ENV,
+                           on_start=kill_rank_1)
+        self.assertTrue(killed, "no soil rank 1 was found to kill:\n" + out[-3000:])
+        self.assertNotEqual(code, -999, "the launch did not stop after a soil rank was killed")
+        self.assertEqual(code, 1, out[-3000:])
+        self.assertIn("process rank 1", out, "mpirun must say which rank died")
+        self.assertRegex(out, r"REQUIRED process \[soil-\d+\] has died")
+        with rosbag.Bag(str(bag)) as b:  # closed cleanly
+            self.assertGreater(b.get_message_count(), 0)
+        checked = bag_check.check_bag(bag)
+        self.assertEqual(checked.code, 1, f"{checked.refused} {checked.findings}")
+        self.assertIn(names.SURFACE_VELOCITIES, checked.incomplete)
+
+    def test_missing_mpirun_is_a_clear_error(self):
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(WORK / "no_mpirun.bag"),
+                            "soil_ranks:=2", "soil_mpirun:=/nonexistent/mpirun"], timeout_s=120)
+        self.assertNotIn(code, (0, -999), out[-3000:])
+        self.assertIn("No such file or directory", out)
+        self.assertIn("/nonexistent/mpirun -np 2", out)
 
     def test_killed_node_stops_the_launch_and_leaves_a_readable_bag(self):
         bag = WORK / "killed.bag"

@@ -12,15 +12,16 @@
 
 #include <memory>
 
+#include "railvib/SectionSnapshot.h"
 #include "railvib/SleeperLayout.h"
 #include "railvib/SoilLoads.h"
-#include "railvib/SectionSnapshot.h"
 #include "railvib/SurfaceSnapshot.h"
 #include "railvib/SurfaceVelocities.h"
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/block_publisher.hpp"
 #include "railvib/ros/layout_gate.hpp"
 #include "railvib/ros/node_status.hpp"
+#include "railvib/soil/soil_driver.hpp"
 #include "railvib/soil/soil_model.hpp"
 
 namespace railvib::ros_io {
@@ -29,7 +30,15 @@ class SoilNode {
  public:
   /// Private parameters: ~include_building_footprint (default true: the house's footprint points
   /// become receivers), ~required_subscribers (surface_velocities, default 1).
-  SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// comm: the MPI ranks the soil is spread over (this node is rank 0; null = one rank).
+  SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, std::shared_ptr<soil::SoilComm> comm = nullptr);
+  /// The soil node's ranks other than 0 (under mpirun): no ROS, they build and step their slabs as
+  /// rank 0's node says (soil::SoilDriver); aborts the run with the reason if their model fails.
+  static int serveOtherRank(std::shared_ptr<soil::SoilComm> comm);
+  /// The soil model of every rank, from the setup text rank 0 sends (the merged scenario).
+  static soil::SoilDriver::Factory modelFactory();
+  /// The house's receivers (free field, and footprint if asked), none without a `building` section.
+  static soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint);
   bool failed() const { return status_->failed(); }
 
  private:
@@ -37,16 +46,14 @@ class SoilNode {
   void onLoads(const railvib::SoilLoads::ConstPtr& msg);
   void consume(const railvib::SoilLoads& msg);
   void publishOutputs(bool end_of_stream);
-  /// The house's receivers (free field, and footprint if asked), none without a `building` section.
-  static soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint);
 
   soil::SoilParams params_;
-  std::unique_ptr<soil::SoilModel> model_;
+  soil::SoilDriver driver_;
+  std::string setup_;  // what the model of every rank is built from (modelFactory)
   double load_sample_rate_hz_ = 0.0;
   StreamLimits limits_;
   BlockPublisher<railvib::SurfaceVelocities> velocity_publisher_;
   ros::Publisher layout_publisher_, snapshot_publisher_, section_publisher_;
-  std::vector<soil::RigidBodySpec> bodies_;  // attached to the soil model (a two-way house's foundation)
   ros::Subscriber layout_subscriber_, loads_subscriber_;
   std::unique_ptr<NodeStatus> status_;
   soil::ReceiverBlock receivers_;
