@@ -20,8 +20,8 @@ import xml.etree.ElementTree as ET
 UNIT_DOMAINS = ["common", "io", "signal", "track", "vehicle", "soil", "building", "coupling", "validation",
                 "scenario"]
 EXPECTED_SUITES = ([f"gtest-{d}" for d in UNIT_DOMAINS]
-                   + ["gtest-soil_mpi", "rostest-track", "rostest-haren", "scenario-checks", "node-fuzz", "robustness-cases",
-                      "tool-commands", "script-tests", "export-tests", "monitor-tests"])
+                   + ["gtest-soil_mpi", "rostest-track", "rostest-haren", "scenario-checks", "netns-hosts", "node-fuzz",
+                      "robustness-cases", "tool-commands", "script-tests", "export-tests", "monitor-tests"])
 # The sanitizer build (./railvib sanitize): the unit tests and the node-level fuzz.
 # (test_coupling's Craig-Bampton reductions are left out: minutes under the sanitizers; the
 # soil and building tests it builds on are in.)
