@@ -40,21 +40,7 @@ constexpr int kSteps = 300;
 constexpr size_t kCut = kNx / 2;  // 2 balanced slabs: element columns [0, 24) and [24, 48)
 
 // Haren layers 1-2 over a half-space, 0.25 m in plane, 20 levels: 48 x 40 x 20 = 38 400 elements.
-StructuredMesh layeredMesh() {
-  const Material l1{61.0e6, 1876.0, 0.13}, l2{84.0e6, 1876.0, 0.13}, hs{465.0e6, 1992.0, 0.3};
-  std::vector<double> z{0.0};
-  std::vector<Material> mats;
-  auto add = [&](int levels, double dz, const Material& m) {
-    for (int k = 0; k < levels; ++k) {
-      z.push_back(z.back() + dz);
-      mats.push_back(m);
-    }
-  };
-  add(6, 0.2, l1);
-  add(8, 0.225, l2);
-  add(6, 0.5, hs);
-  return buildUniformMesh(kNx, kNy, 0.25, 0.25, z, mats, -6.0, -5.0);
-}
+StructuredMesh layeredMesh() { return railvib::soil::testing::layeredTestMesh(kNx, kNy); }
 
 struct Case {
   BoundaryMethod boundary = BoundaryMethod::GradedLayer;

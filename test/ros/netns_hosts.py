@@ -20,7 +20,6 @@ import sys
 import tempfile
 import time
 import unittest
-import xml.etree.ElementTree as ET
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
@@ -28,6 +27,7 @@ sys.path.insert(0, str(ROOT / "test" / "ros"))
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
+from junit_xml import write_junit  # noqa: E402
 
 LAUNCHER = str(ROOT / "scripts" / "launch_scenario.py")
 CONFIG = str(ROOT / "config" / "haren_ci.yaml")
@@ -168,20 +168,6 @@ class NetnsHosts(unittest.TestCase):
         self.assertIn("2 ranks vs 1 rank", out)
 
 
-def write_junit(result, path):
-    suite = ET.Element("testsuite", name="netns_hosts", tests=str(result.testsRun),
-                       failures=str(len(result.failures)), errors=str(len(result.errors)))
-    failed = {t.id(): msg for t, msg in result.failures}
-    errored = {t.id(): msg for t, msg in result.errors}
-    for test in unittest.defaultTestLoader.loadTestsFromTestCase(NetnsHosts):
-        case = ET.SubElement(suite, "testcase", classname="NetnsHosts", name=test.id().split(".")[-1])
-        if test.id() in failed:
-            ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
-        if test.id() in errored:
-            ET.SubElement(case, "error", message="error").text = errored[test.id()]
-    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
 
 if __name__ == "__main__":
     if len(sys.argv) != 3:
@@ -189,6 +175,6 @@ if __name__ == "__main__":
     TEST_SOIL_MPI = sys.argv[1]
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(NetnsHosts)
     result = unittest.TextTestRunner(verbosity=2).run(suite)
-    write_junit(result, sys.argv[2])
+    write_junit(result, "netns_hosts", NetnsHosts, sys.argv[2])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)

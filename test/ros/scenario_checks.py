@@ -32,7 +32,6 @@ import tempfile
 import threading
 import time
 import unittest
-import xml.etree.ElementTree as ET
 
 import rosbag
 
@@ -41,6 +40,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
+from junit_xml import write_junit  # noqa: E402
 
 LAUNCHER = str(ROOT / "scripts" / "launch_scenario.py")
 
@@ -343,20 +343,6 @@ class ScenarioChecks(unittest.TestCase):
         self.assertEqual(exposed, {}, "servers listening beyond loopback with ROS_IP=127.0.0.1")
 
 
-def write_junit(result, tests_run, path):
-    suite = ET.Element("testsuite", name="scenario_checks", tests=str(tests_run),
-                       failures=str(len(result.failures)), errors=str(len(result.errors)))
-    failed = {t.id(): msg for t, msg in result.failures}
-    errored = {t.id(): msg for t, msg in result.errors}
-    for test in unittest.defaultTestLoader.loadTestsFromTestCase(ScenarioChecks):
-        case = ET.SubElement(suite, "testcase", classname="ScenarioChecks", name=test.id().split(".")[-1])
-        if test.id() in failed:
-            ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
-        if test.id() in errored:
-            ET.SubElement(case, "error", message="error").text = errored[test.id()]
-    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
 
 if __name__ == "__main__":
     CONFIG = str(pathlib.Path(__file__).resolve().parents[2] / "config" / "haren_ci.yaml")
@@ -365,6 +351,6 @@ if __name__ == "__main__":
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(ScenarioChecks)
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
-        write_junit(result, result.testsRun, sys.argv[1])
+        write_junit(result, "scenario_checks", ScenarioChecks, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)

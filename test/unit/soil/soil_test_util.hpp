@@ -2,8 +2,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "railvib/common/config.hpp"
+#include "railvib/soil/mesh.hpp"
 
 namespace railvib::soil::testing {
 
@@ -39,6 +41,24 @@ inline std::string smallScenario(const std::string& layer1 =
          sensors +
          "\n"
          "simulation: {duration_s: 0.1}\n";
+}
+
+// Three-material layered soil (Haren layers 1-2 and a half-space), 0.25 m in plane, 20 element
+// levels: nx x ny x 20 elements (48 x 40 x 20 = 38 400 in the thread and rank tests).
+inline StructuredMesh layeredTestMesh(size_t nx, size_t ny) {
+  const Material l1{61.0e6, 1876.0, 0.13}, l2{84.0e6, 1876.0, 0.13}, hs{465.0e6, 1992.0, 0.3};
+  std::vector<double> z{0.0};
+  std::vector<Material> mats;
+  auto add = [&](int levels, double dz, const Material& m) {
+    for (int k = 0; k < levels; ++k) {
+      z.push_back(z.back() + dz);
+      mats.push_back(m);
+    }
+  };
+  add(6, 0.2, l1);
+  add(8, 0.225, l2);
+  add(6, 0.5, hs);
+  return buildUniformMesh(nx, ny, 0.25, 0.25, z, mats, -6.0, -5.0);
 }
 
 }  // namespace railvib::soil::testing

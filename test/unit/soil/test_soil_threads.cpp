@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "railvib/soil/solver.hpp"
+#include "soil_test_util.hpp"
 
 using namespace railvib::soil;
 
@@ -37,21 +38,7 @@ constexpr int kSteps = 300;
 
 // Three-material layered soil (Haren layers 1-2 and a half-space), 0.25 m in
 // plane, 20 element levels: 48 x 40 x 20 = 38 400 elements.
-StructuredMesh layeredMesh() {
-  const Material l1{61.0e6, 1876.0, 0.13}, l2{84.0e6, 1876.0, 0.13}, hs{465.0e6, 1992.0, 0.3};
-  std::vector<double> z{0.0};
-  std::vector<Material> mats;
-  auto add = [&](int levels, double dz, const Material& m) {
-    for (int k = 0; k < levels; ++k) {
-      z.push_back(z.back() + dz);
-      mats.push_back(m);
-    }
-  };
-  add(6, 0.2, l1);
-  add(8, 0.225, l2);
-  add(6, 0.5, hs);
-  return buildUniformMesh(kTestNx, kTestNy, 0.25, 0.25, z, mats, -6.0, -5.0);
-}
+StructuredMesh layeredMesh() { return railvib::soil::testing::layeredTestMesh(kTestNx, kTestNy); }
 
 struct RunResult {
   std::vector<double> surface_history;   // surface vertical velocity, every step, (nx+1)(ny+1) per step
