@@ -391,7 +391,21 @@ RankScalingResult runRankScaling(const RankScalingSpec& spec, const std::shared_
   Solver spread(spec.mesh, o, comm);
   addCentreLoad(spread);
   drive(spread, 2);
-  std::vector<double> one_s, spread_s, ratio;
+  // Each rank's slab alone, as a mesh of its own (no neighbour, no exchange, the cut faces left free
+  // as in the spread run), all ranks at once: what the machine gives to independent work of the same
+  // size, i.e. the ceiling of the spread run's speed-up on this machine.
+  std::unique_ptr<Solver> alone;
+  if (comm->size() > 1) {
+    const SlabPartition& part = spread.partition();
+    SolverOptions oa = o;
+    if (part.hasLow()) oa.absorbing.x_min = oa.symmetry_x_min = oa.antisymmetry_x_min = false;
+    if (part.hasHigh()) oa.absorbing.x_max = false;
+    alone = std::make_unique<Solver>(sliceMesh(spec.mesh, part.begin(), part.end()), oa, serialSoilComm());
+    addCentreLoad(*alone);
+    drive(*alone, 2);
+  }
+  std::vector<double> one_s, spread_s, ratio, alone_s, ceiling;
+  double alone_own_total_s = 0.0;
   const uint64_t bytes0 = comm->haloBytesSent(), ex0 = comm->haloExchanges();
   const double wait0 = comm->haloWaitSeconds();
   double spread_total_s = 0.0;
@@ -412,19 +426,32 @@ RankScalingResult runRankScaling(const RankScalingSpec& spec, const std::shared_
       spread_s.push_back(el / spec.steps);
       ratio.push_back(one_s.back() / spread_s.back());
     }
+    if (alone) {
+      comm->barrier();
+      const double a0 = omp_get_wtime();
+      drive(*alone, spec.steps);
+      alone_own_total_s += omp_get_wtime() - a0;
+      comm->barrier();
+      if (comm->root()) {
+        alone_s.push_back((omp_get_wtime() - a0) / spec.steps);
+        ceiling.push_back(one_s.back() / alone_s.back());
+      }
+    }
   }
   RankScalingResult r;
   r.ranks = comm->size();
   r.elements = spec.mesh.elementCount();
   r.cuts = spread.partition().cuts;
   const double exchanges = static_cast<double>(comm->haloExchanges() - ex0);
-  const double mine[2] = {exchanges > 0 ? static_cast<double>(comm->haloBytesSent() - bytes0) / exchanges : 0.0,
-                          (comm->haloWaitSeconds() - wait0) / spread_total_s};
+  const double steps_run = static_cast<double>(spec.steps) * spec.repeat;
+  const double mine[3] = {exchanges > 0 ? static_cast<double>(comm->haloBytesSent() - bytes0) / exchanges : 0.0,
+                          (comm->haloWaitSeconds() - wait0) / spread_total_s, alone_own_total_s / steps_run};
   std::vector<double> all;
-  comm->allGather(mine, 2, all);
-  for (size_t q = 0; q < all.size(); q += 2) {
+  comm->allGather(mine, 3, all);
+  for (size_t q = 0; q < all.size(); q += 3) {
     r.halo_bytes_per_step.push_back(all[q]);
     r.halo_wait_fraction.push_back(all[q + 1]);
+    if (alone) r.slab_alone_step_s.push_back(all[q + 2]);
   }
   if (comm->root()) {
     r.one_rank_step_s = medianOf(one_s);
@@ -433,6 +460,10 @@ RankScalingResult runRankScaling(const RankScalingSpec& spec, const std::shared_
     r.min_speedup = *std::min_element(ratio.begin(), ratio.end());
     r.max_speedup = *std::max_element(ratio.begin(), ratio.end());
     r.one_rank_seconds_per_element_step = r.one_rank_step_s / static_cast<double>(r.elements);
+    if (alone) {
+      r.alone_step_s = medianOf(alone_s);
+      r.ceiling_speedup = medianOf(ceiling);
+    }
   }
   return r;
 }

@@ -424,12 +424,16 @@ void benchRanks(const BenchArgs& a, json& out) {
   out["halo_bytes_per_step_per_rank"] = r.halo_bytes_per_step;
   out["halo_wait_fraction_per_rank"] = r.halo_wait_fraction;
   out["one_rank_seconds_per_element_step"] = r.one_rank_seconds_per_element_step;
+  out["slabs_alone_step_s"] = r.alone_step_s;
+  out["ceiling_speedup"] = r.ceiling_speedup;
+  out["slab_alone_step_s_per_rank"] = r.slab_alone_step_s;
   out["steps"] = spec.steps;
   out["repeat"] = spec.repeat;
   out["note"] =
       "medians over repeats; each repeat times the whole mesh on rank 0 alone (the other ranks sleep), then the "
       "mesh over all ranks (rank 0's wall clock between barriers); speedup = median of the repeats' ratios; "
-      "halo bytes = the shared node planes' forces sent per step; wait fraction = time in the halo wait / step";
+      "halo bytes = the shared node planes' forces sent per step; wait fraction = time in the halo wait / step; "
+      "ceiling = one rank / each slab run as a mesh of its own on all ranks at once (no exchange)";
   if (!comm->root()) return;
   std::ostringstream t;
   t << std::fixed << std::setprecision(3) << "soil ranks: mesh " << m.nx << " x " << m.ny << " x " << m.nz << " = "
@@ -438,10 +442,18 @@ void benchRanks(const BenchArgs& a, json& out) {
     << "  one rank " << 1e3 * r.one_rank_step_s << " ms/step, " << r.ranks << " ranks " << 1e3 * r.spread_step_s
     << " ms/step: speed-up " << std::setprecision(2) << r.speedup << " (min " << r.min_speedup << ", max "
     << r.max_speedup << "), efficiency " << r.speedup / r.ranks << "\n";
+  if (r.ranks > 1) {
+    t << "  the slabs alone (each a mesh of its own, all ranks at once, no exchange) " << std::setprecision(3)
+      << 1e3 * r.alone_step_s << " ms/step: the machine's ceiling " << std::setprecision(2) << r.ceiling_speedup
+      << "; spread / ceiling " << r.speedup / r.ceiling_speedup << "\n";
+  }
   for (size_t q = 0; q < r.halo_bytes_per_step.size(); ++q) {
     t << "  rank " << q << ": element columns [" << r.cuts[q] << ", " << r.cuts[q + 1] << "), halo "
       << std::setprecision(1) << r.halo_bytes_per_step[q] / 1e3 << " kB sent per step, waiting "
-      << 100.0 * r.halo_wait_fraction[q] << " % of the step\n";
+      << 100.0 * r.halo_wait_fraction[q] << " % of the step";
+    if (q < r.slab_alone_step_s.size())
+      t << ", slab alone " << std::setprecision(3) << 1e3 * r.slab_alone_step_s[q] << " ms/step";
+    t << "\n";
   }
   std::cerr << t.str();
 }

@@ -111,6 +111,10 @@ struct RankScalingResult {
   std::vector<double> halo_bytes_per_step;  // sent per step, per rank
   std::vector<double> halo_wait_fraction;   // per rank: of the step, waiting for the neighbours' planes
   double one_rank_seconds_per_element_step = 0.0;
+  // Each slab as a mesh of its own, all ranks at once (no exchange): the machine's ceiling.
+  double alone_step_s = 0.0;              // median, the slowest rank's
+  double ceiling_speedup = 0.0;           // median of the repeats' ratios one_rank / alone
+  std::vector<double> slab_alone_step_s;  // per rank, its own slab's mean step
 };
 /// Collective over comm (every rank calls it with the same spec); the result is complete on rank 0.
 RankScalingResult runRankScaling(const RankScalingSpec& spec, const std::shared_ptr<SoilComm>& comm);
