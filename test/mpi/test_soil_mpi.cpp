@@ -30,6 +30,8 @@
 #include "railvib/soil/solver.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::maxAbs;
+using railvib::soil::testing::maxAbsDiff;
 
 namespace {
 
@@ -138,18 +140,6 @@ Result run(const Case& c, std::shared_ptr<SoilComm> comm) {
     r.body.insert(r.body.end(), b.velocity.data(), b.velocity.data() + 6);
   }
   return r;
-}
-
-double maxAbs(const std::vector<double>& a) {
-  double m = 0.0;
-  for (double x : a) m = std::max(m, std::abs(x));
-  return m;
-}
-
-double maxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = a.size() == b.size() ? 0.0 : INFINITY;
-  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
 }
 
 bool bitwiseEqual(const std::vector<double>& a, const std::vector<double>& b) {

@@ -1,6 +1,8 @@
 // Shared helpers of the soil unit tests.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -59,6 +61,19 @@ inline StructuredMesh layeredTestMesh(size_t nx, size_t ny) {
   add(8, 0.225, l2);
   add(6, 0.5, hs);
   return buildUniformMesh(nx, ny, 0.25, 0.25, z, mats, -6.0, -5.0);
+}
+
+inline double maxAbs(const std::vector<double>& a) {
+  double m = 0.0;
+  for (double x : a) m = std::max(m, std::abs(x));
+  return m;
+}
+
+/// Largest |a_i - b_i|; infinite when the sizes differ (a run that lost or gained values never agrees).
+inline double maxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = a.size() == b.size() ? 0.0 : INFINITY;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
 }
 
 }  // namespace railvib::soil::testing

@@ -15,6 +15,8 @@
 #include "soil_test_util.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::maxAbs;
+using railvib::soil::testing::maxAbsDiff;
 
 namespace {
 
@@ -65,18 +67,6 @@ History runPulse(Solver& s, int steps) {
     }
   }
   return h;
-}
-
-double maxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
-
-double maxAbs(const std::vector<double>& a) {
-  double d = 0.0;
-  for (double x : a) d = std::max(d, std::abs(x));
-  return d;
 }
 
 PmlSpec undampedPml(double thickness_m, bool outer_dashpots) {

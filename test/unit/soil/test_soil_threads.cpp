@@ -27,6 +27,8 @@
 #include "soil_test_util.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::maxAbs;
+using railvib::soil::testing::maxAbsDiff;
 
 namespace {
 
@@ -133,18 +135,6 @@ RunResult run(int threads, Precision precision, KernelKind kernel = KernelKind::
 const RunResult& twoThreadRun() {
   static const RunResult r = run(2, Precision::Float);
   return r;
-}
-
-double maxAbs(const std::vector<double>& a) {
-  double m = 0.0;
-  for (double x : a) m = std::max(m, std::abs(x));
-  return m;
-}
-
-double maxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
 }
 
 // Bitwise comparison (memcmp: also tells -0 from +0); on failure, report the first difference.
