@@ -148,6 +148,40 @@ std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, cons
   throw std::invalid_argument("soil kernel '" + kernelName(kind) + "' is not available");
 }
 
+template <class Real>
+SplitKernel<Real> makeSplitStiffnessKernel(KernelKind kind, const StructuredMesh& mesh, const ElementBox& box,
+                                           int threads, bool low_face, bool high_face, size_t pieces) {
+  if (kind == KernelKind::Stencil) return makeSplitStencilKernel<Real>(mesh, box, threads, low_face, high_face, pieces);
+  // Element by element: the element columns next to a face (their forces complete the face's nodes), then the
+  // interior in pieces along y (each keeps the rows along x whole).
+  SplitKernel<Real> split;
+  ElementBox interior = box;
+  if (low_face) {
+    const ElementBox edge = box.intersect({0, 1, 0, mesh.ny, 0, mesh.nz});
+    if (!edge.empty()) split.faces.push_back(makeStiffnessKernel<Real>(kind, mesh, edge, threads));
+    interior.i0 = std::max<size_t>(interior.i0, 1);
+  }
+  if (high_face) {
+    const ElementBox edge = box.intersect({mesh.nx - 1, mesh.nx, 0, mesh.ny, 0, mesh.nz});
+    if (!edge.empty()) split.faces.push_back(makeStiffnessKernel<Real>(kind, mesh, edge, threads));
+    interior.i1 = std::min(interior.i1, mesh.nx - 1);
+  }
+  if (interior.empty()) return split;
+  const size_t ny = interior.j1 - interior.j0, n = std::max<size_t>(1, std::min(pieces, ny));
+  for (size_t q = 0; q < n; ++q) {
+    ElementBox piece = interior;
+    piece.j0 = interior.j0 + ny * q / n;
+    piece.j1 = interior.j0 + ny * (q + 1) / n;
+    if (!piece.empty()) split.rest.push_back(makeStiffnessKernel<Real>(kind, mesh, piece, threads));
+  }
+  return split;
+}
+
+template SplitKernel<float> makeSplitStiffnessKernel<float>(KernelKind, const StructuredMesh&, const ElementBox&, int,
+                                                            bool, bool, size_t);
+template SplitKernel<double> makeSplitStiffnessKernel<double>(KernelKind, const StructuredMesh&, const ElementBox&, int,
+                                                              bool, bool, size_t);
+
 template std::unique_ptr<StiffnessKernel<float>> makeStiffnessKernel<float>(KernelKind, const StructuredMesh&,
                                                                             const ElementBox&, int);
 template std::unique_ptr<StiffnessKernel<double>> makeStiffnessKernel<double>(KernelKind, const StructuredMesh&,

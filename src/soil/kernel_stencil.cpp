@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -345,12 +346,22 @@ Pattern insidePattern(std::array<double, kTableSize>& t) {
   return Pattern::Full;
 }
 
+// The coefficient tables of a box, shared by the kernel of the whole box and its parts.
+template <class Real>
+struct StencilTables {
+  std::vector<Real> coef;              // 243 per table, 9 tables per node plane of the box
+  std::vector<ptrdiff_t> offsets;      // 27 per table
+  std::vector<ptrdiff_t> max_offsets;  // per table
+};
+
 template <class Real>
 class StencilKernel final : public StiffnessKernel<Real> {
  public:
   StencilKernel(const StructuredMesh& mesh, const ElementBox& box, int threads, const std::string& instruction_set)
-      : mesh_(mesh), box_(box), threads_(std::max(1, threads)), run_(selectRunLines<Real>(instruction_set)) {
-    if (box_.empty()) return;
+      : mesh_(mesh), threads_(std::max(1, threads)), run_(selectRunLines<Real>(instruction_set)) {
+    auto tables = std::make_shared<StencilTables<Real>>();
+    tables_ = tables;
+    if (box.empty()) return;
     const size_t sx = mesh.nx + 1, sxy = (mesh.nx + 1) * (mesh.ny + 1);
     std::vector<std::array<double, 576>> ke(box.k1 - box.k0);
     for (size_t k = box.k0; k < box.k1; ++k) {
@@ -364,13 +375,13 @@ class StencilKernel final : public StiffnessKernel<Real> {
     for (size_t k = box.k0; k <= box.k1; ++k) {
       const std::array<double, 576>* above = k > box.k0 ? &ke[k - 1 - box.k0] : nullptr;
       const std::array<double, 576>* below = k < box.k1 ? &ke[k - box.k0] : nullptr;
-      const uint32_t first_table = static_cast<uint32_t>(max_offsets_.size());
+      const uint32_t first_table = static_cast<uint32_t>(tables->max_offsets.size());
       Pattern inside = Pattern::Full;
       for (int yc = 0; yc < 3; ++yc) {
         for (int xc = 0; xc < 3; ++xc) {
           std::array<double, kTableSize> t = nodeStencil(above, below, xc, yc);
           if (xc == kInside && yc == kInside && above && below) inside = insidePattern(t);
-          addTable(t, sx, sxy);
+          addTable(*tables, t, sx, sxy);
         }
       }
       auto table = [&](int yc, int xc) { return first_table + static_cast<uint32_t>(3 * yc + xc); };
@@ -397,16 +408,22 @@ class StencilKernel final : public StiffnessKernel<Real> {
     }
   }
 
+  /// A part of `whole`: some of its lines (each node's force is computed by exactly one line, so the parts
+  /// together give the whole kernel's result bit for bit); the tables are shared.
+  StencilKernel(const StencilKernel& whole, const std::vector<Line>& lines)
+      : mesh_(whole.mesh_), threads_(whole.threads_), run_(whole.run_), tables_(whole.tables_) {
+    for (const Line& line : lines) addLine(line);
+  }
+
   void apply(const Real* const in[3], Real* const out[3]) const override {
     if (lines_.empty()) return;
-    const Tables<Real> tab{coef_.data(), offsets_.data(), max_offsets_.data()};
+    const Tables<Real> tab{tables_->coef.data(), tables_->offsets.data(), tables_->max_offsets.data()};
     const size_t node_count = mesh_.nodeCount();
-    const size_t box_nodes = (box_.i1 - box_.i0 + 1) * (box_.j1 - box_.j0 + 1) * (box_.k1 - box_.k0 + 1);
     const Line* lines = lines_.data();
     const size_t n_lines = lines_.size();
     const double* cost = cost_prefix_.data();
     const RunLines<Real> run = run_;
-#pragma omp parallel num_threads(threads_) if (threads_ > 1 && box_nodes >= kMinParallelNodes)
+#pragma omp parallel num_threads(threads_) if (threads_ > 1 && nodes_ >= kMinParallelNodes)
     {
       // Contiguous runs of lines of equal estimated cost (the partition does not change any result).
       const double t = omp_get_thread_num(), nt = omp_get_num_threads(), total = cost[n_lines];
@@ -419,8 +436,12 @@ class StencilKernel final : public StiffnessKernel<Real> {
   double multiplyAddsPerApply() const override { return multiply_adds_; }
   KernelKind kind() const override { return KernelKind::Stencil; }
 
+  const std::vector<Line>& lines() const { return lines_; }
+  /// Estimated cost of lines [0, q) (the thread partition's measure).
+  double costBefore(size_t q) const { return cost_prefix_.empty() ? 0.0 : cost_prefix_[q]; }
+
  private:
-  void addTable(const std::array<double, kTableSize>& t, size_t sx, size_t sxy) {
+  static void addTable(StencilTables<Real>& tables, const std::array<double, kTableSize>& t, size_t sx, size_t sxy) {
     ptrdiff_t max_off = 0;
     for (int o = 0; o < kOffsets; ++o) {
       bool zero = true;
@@ -428,16 +449,17 @@ class StencilKernel final : public StiffnessKernel<Real> {
       // A neighbour outside the box has a zero block: read the node itself instead (never outside the box).
       const ptrdiff_t off =
           zero ? 0 : offsetDi(o) + offsetDj(o) * static_cast<ptrdiff_t>(sx) + offsetDk(o) * static_cast<ptrdiff_t>(sxy);
-      offsets_.push_back(off);
+      tables.offsets.push_back(off);
       max_off = std::max(max_off, off);
     }
-    max_offsets_.push_back(max_off);
-    for (double c : t) coef_.push_back(static_cast<Real>(c));
+    tables.max_offsets.push_back(max_off);
+    for (double c : t) tables.coef.push_back(static_cast<Real>(c));
   }
 
   void addLine(const Line& line) {
     if (line.count == 0) return;
     lines_.push_back(line);
+    nodes_ += line.count;
     const double fma = static_cast<double>(line.count) * patternSize(line.pattern);
     multiply_adds_ += fma;
     // Gathers cost about twice a contiguous load: weight the x-face lines for the thread partition.
@@ -446,14 +468,12 @@ class StencilKernel final : public StiffnessKernel<Real> {
   }
 
   const StructuredMesh& mesh_;
-  ElementBox box_;
   int threads_;
   RunLines<Real> run_;
-  std::vector<Real> coef_;              // 243 per table, 9 tables per node plane of the box
-  std::vector<ptrdiff_t> offsets_;      // 27 per table
-  std::vector<ptrdiff_t> max_offsets_;  // per table
-  std::vector<Line> lines_;             // plane by plane, rows in order
-  std::vector<double> cost_prefix_;     // cumulative estimated cost of the lines (size lines + 1)
+  std::shared_ptr<const StencilTables<Real>> tables_;
+  std::vector<Line> lines_;          // plane by plane, rows in order
+  std::vector<double> cost_prefix_;  // cumulative estimated cost of the lines (size lines + 1)
+  size_t nodes_ = 0;                 // nodes the lines compute (each once)
   double multiply_adds_ = 0.0;
 };
 
@@ -473,6 +493,52 @@ std::unique_ptr<StiffnessKernel<Real>> makeStencilKernel(const StructuredMesh& m
                                                          const std::string& instruction_set) {
   return std::make_unique<StencilKernel<Real>>(mesh, box, threads, instruction_set);
 }
+
+template <class Real>
+SplitKernel<Real> makeSplitStencilKernel(const StructuredMesh& mesh, const ElementBox& box, int threads, bool low_face,
+                                         bool high_face, size_t pieces, const std::string& instruction_set) {
+  const StencilKernel<Real> whole(mesh, box, threads, instruction_set);
+  // A line lies on an x face as a whole (the faces' lines along y and the single nodes of the edges) or not at
+  // all (the lines along x stop one node short of the faces).
+  const size_t sx = mesh.nx + 1;
+  std::vector<Line> faces, rest;
+  std::vector<double> rest_cost{0.0};
+  for (size_t q = 0; q < whole.lines().size(); ++q) {
+    const Line& line = whole.lines()[q];
+    const size_t i = line.first % sx;
+    if ((low_face && i == 0) || (high_face && i == mesh.nx)) {
+      faces.push_back(line);
+    } else {
+      rest.push_back(line);
+      rest_cost.push_back(rest_cost.back() + whole.costBefore(q + 1) - whole.costBefore(q));
+    }
+  }
+  SplitKernel<Real> split;
+  if (!faces.empty()) split.faces.push_back(std::make_unique<StencilKernel<Real>>(whole, faces));
+  // The rest in runs of lines of equal estimated cost.
+  const size_t n = std::max<size_t>(1, std::min(pieces, rest.size()));
+  size_t q0 = 0;
+  for (size_t p = 0; p < n; ++p) {
+    const double target = rest_cost.back() * static_cast<double>(p + 1) / static_cast<double>(n);
+    size_t q1 =
+        p + 1 == n
+            ? rest.size()
+            : static_cast<size_t>(std::lower_bound(rest_cost.begin(), rest_cost.end(), target) - rest_cost.begin());
+    q1 = std::clamp(q1, q0, rest.size());
+    if (q1 > q0) {
+      split.rest.push_back(std::make_unique<StencilKernel<Real>>(
+          whole,
+          std::vector<Line>(rest.begin() + static_cast<ptrdiff_t>(q0), rest.begin() + static_cast<ptrdiff_t>(q1))));
+    }
+    q0 = q1;
+  }
+  return split;
+}
+
+template SplitKernel<float> makeSplitStencilKernel<float>(const StructuredMesh&, const ElementBox&, int, bool, bool,
+                                                          size_t, const std::string&);
+template SplitKernel<double> makeSplitStencilKernel<double>(const StructuredMesh&, const ElementBox&, int, bool, bool,
+                                                            size_t, const std::string&);
 
 template std::unique_ptr<StiffnessKernel<float>> makeStencilKernel<float>(const StructuredMesh&, const ElementBox&, int,
                                                                           const std::string&);

@@ -54,12 +54,10 @@ struct ImplT : Solver::Impl {
   int threads = 1;
   Real dt = 0, beta = 0, e_filter = 0;
   std::vector<Real> u[3], v[3], vf[3], w[3], f[3], va[3], vb[3];
-  // One kernel on one rank; spread over ranks, the element columns next to a shared plane first
-  // (their forces are sent) and the interior while the messages travel.
-  std::vector<std::unique_ptr<StiffnessKernel<Real>>> edge_kernels;
+  // One kernel on one rank; spread over ranks, the kernel in parts: first the forces on the shared planes
+  // (they are sent), then the rest in pieces while the messages travel.
   std::unique_ptr<StiffnessKernel<Real>> kernel;
-  // Over ranks: the interior in pieces along y, the halo exchange advanced between them.
-  std::vector<std::unique_ptr<StiffnessKernel<Real>>> interior_kernels;
+  SplitKernel<Real> split;
   SoilComm* comm = nullptr;  // null on one rank
   SlabPartition partition;
   std::vector<Real> send_low, send_high, recv_low, recv_high;
@@ -129,28 +127,10 @@ struct ImplT : Solver::Impl {
       kernel = makeStiffnessKernel<Real>(kind, *mesh, box, threads);
       return;
     }
-    ElementBox interior = box;
-    if (partition.hasLow()) {
-      const ElementBox edge = box.intersect({0, 1, 0, mesh->ny, 0, mesh->nz});
-      if (!edge.empty()) edge_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, edge, threads));
-      interior.i0 = std::max<size_t>(interior.i0, 1);
-    }
-    if (partition.hasHigh()) {
-      const ElementBox edge = box.intersect({mesh->nx - 1, mesh->nx, 0, mesh->ny, 0, mesh->nz});
-      if (!edge.empty()) edge_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, edge, threads));
-      interior.i1 = std::min(interior.i1, mesh->nx - 1);
-    }
-    // Pieces along y keep the kernel's lines (along x) whole; a few pieces are enough for the exchange to
-    // finish behind the interior work.
+    // A few pieces are enough for the exchange to finish behind the interior work.
     constexpr size_t kInteriorPieces = 4;
-    if (interior.empty()) return;
-    const size_t ny = interior.j1 - interior.j0, pieces = std::min(kInteriorPieces, ny);
-    for (size_t q = 0; q < pieces; ++q) {
-      ElementBox piece = interior;
-      piece.j0 = interior.j0 + ny * q / pieces;
-      piece.j1 = interior.j0 + ny * (q + 1) / pieces;
-      if (!piece.empty()) interior_kernels.push_back(makeStiffnessKernel<Real>(kind, *mesh, piece, threads));
-    }
+    split = makeSplitStiffnessKernel<Real>(kind, *mesh, box, threads, partition.hasLow(), partition.hasHigh(),
+                                           kInteriorPieces);
   }
 
   // The shared node planes: local i = 0 (low neighbour) and i = nx (high neighbour), j fastest, then k.
@@ -175,10 +155,7 @@ struct ImplT : Solver::Impl {
   void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) override;
 
   double kernelMultiplyAdds() const override {
-    double m = kernel ? kernel->multiplyAddsPerApply() : 0.0;
-    for (const auto& k : edge_kernels) m += k->multiplyAddsPerApply();
-    for (const auto& k : interior_kernels) m += k->multiplyAddsPerApply();
-    return m;
+    return kernel ? kernel->multiplyAddsPerApply() : split.multiplyAddsPerApply();
   }
 
   size_t attachRigidBody(const RigidBodySpec& spec, const StructuredMesh& global_mesh,
@@ -203,7 +180,7 @@ struct ImplT : Solver::Impl {
     const Real* in[3] = {w[0].data(), w[1].data(), w[2].data()};
     Real* out[3] = {f[0].data(), f[1].data(), f[2].data()};
     if (!comm) kernel->apply(in, out);
-    for (const auto& k : edge_kernels) k->apply(in, out);
+    for (const auto& k : split.faces) k->apply(in, out);
     for (auto& unit : units) unit->addForces(ctx);
     for (size_t c = 0; c < ch.size(); ++c) {
       const double val = values[c];
@@ -219,7 +196,7 @@ struct ImplT : Solver::Impl {
       if (partition.hasHigh()) packPlane(mesh->nx, send_high.data());
       comm->startExchange(send_low.data(), recv_low.data(), send_low.size() * sizeof(Real), send_high.data(),
                           recv_high.data(), send_high.size() * sizeof(Real));
-      for (const auto& k : interior_kernels) {
+      for (const auto& k : split.rest) {
         k->apply(in, out);
         comm->progressExchange();
       }
@@ -276,8 +253,8 @@ struct ImplT : Solver::Impl {
     const Real* in[3] = {u[0].data(), u[1].data(), u[2].data()};
     Real* out[3] = {tmp[0].data(), tmp[1].data(), tmp[2].data()};
     if (kernel) kernel->apply(in, out);
-    for (const auto& k : edge_kernels) k->apply(in, out);
-    for (const auto& k : interior_kernels) k->apply(in, out);
+    for (const auto& k : split.faces) k->apply(in, out);
+    for (const auto& k : split.rest) k->apply(in, out);
     out_f.resize(3 * n);
     for (size_t i = 0; i < n; ++i) {
       for (int d = 0; d < 3; ++d) out_f[3 * i + static_cast<size_t>(d)] = static_cast<double>(tmp[d][i]);

@@ -47,11 +47,35 @@ template <class Real>
 std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, const StructuredMesh& mesh,
                                                            const ElementBox& box, int threads);
 
+/// A kernel in parts, for a slab spread over ranks (solver.cpp): `faces` completes the forces on the nodes of the
+/// mesh's node planes i = 0 (low_face) and i = nx (high_face), which are sent to the neighbours; `rest` is the
+/// remaining work in pieces, applied while the messages travel. Applying faces, then every piece of rest, gives
+/// apply() of the whole box: bit for bit with the stencil (each node's force is one line's), to round-off with
+/// the element kernel (edge columns and interior pieces are element boxes; their sums at the cuts change order).
+template <class Real>
+struct SplitKernel {
+  std::vector<std::unique_ptr<StiffnessKernel<Real>>> faces;
+  std::vector<std::unique_ptr<StiffnessKernel<Real>>> rest;
+  double multiplyAddsPerApply() const {
+    double m = 0.0;
+    for (const auto& k : faces) m += k->multiplyAddsPerApply();
+    for (const auto& k : rest) m += k->multiplyAddsPerApply();
+    return m;
+  }
+};
+template <class Real>
+SplitKernel<Real> makeSplitStiffnessKernel(KernelKind kind, const StructuredMesh& mesh, const ElementBox& box,
+                                           int threads, bool low_face, bool high_face, size_t pieces);
+
 /// The KernelKind::Stencil kernel (kernel_stencil.cpp); makeStiffnessKernel dispatches to it with the widest
 /// instruction set of the CPU. `instruction_set` (one of stencilInstructionSets()) forces another (tests).
 template <class Real>
 std::unique_ptr<StiffnessKernel<Real>> makeStencilKernel(const StructuredMesh& mesh, const ElementBox& box, int threads,
                                                          const std::string& instruction_set = "");
+/// makeSplitStiffnessKernel for the stencil: one table set shared by the parts, the lines dealt out.
+template <class Real>
+SplitKernel<Real> makeSplitStencilKernel(const StructuredMesh& mesh, const ElementBox& box, int threads, bool low_face,
+                                         bool high_face, size_t pieces, const std::string& instruction_set = "");
 /// The stencil kernel's code paths this CPU can run, widest first: "avx512f", "avx2+fma", "sse2".
 std::vector<std::string> stencilInstructionSets();
 

@@ -240,3 +240,65 @@ TEST(SoilKernel, NamesAndCounts) {
   EXPECT_GT(stencil, 153.0 * nodes);
   EXPECT_LT(stencil, 243.0 * nodes);
 }
+
+// The kernel in parts (a slab on a rank with neighbours): the face part completes every force on the shared
+// node planes by itself, and faces + rest together give the whole kernel: bit for bit with the stencil (each
+// node's force is one line's sum), to the kernels' round-off with the element kernel (sums change order at
+// the cuts). Every combination of neighbours and piece counts, on boxes that cut the mesh or touch its faces.
+TEST(SoilKernel, SplitKernelPartsSumToTheWholeKernel) {
+  const StructuredMesh m = gradedLayeredMesh(40, 9);
+  const std::vector<ElementBox> boxes{ElementBox::all(m), {0, m.nx, 2, m.ny - 1, 0, m.nz - 2}};
+  for (const ElementBox& box : boxes) {
+    for (KernelKind kind : {KernelKind::Stencil, KernelKind::Element}) {
+      for (int faces = 0; faces < 4; ++faces) {
+        for (size_t pieces : {1u, 3u, 4u, 50u}) {
+          const bool low = faces & 1, high = faces & 2;
+          const Fields in = randomFields(m, 7);
+          std::vector<float> whole[3], parts[3], face_only[3], w[3];
+          applyKernel<float>(kind, m, box, 1, in, whole);
+          for (int c = 0; c < 3; ++c) {
+            w[c].assign(in.w[c].begin(), in.w[c].end());
+            parts[c].assign(in.f[c].begin(), in.f[c].end());
+          }
+          const SplitKernel<float> split = makeSplitStiffnessKernel<float>(kind, m, box, 1, low, high, pieces);
+          EXPECT_EQ(split.faces.empty(), !low && !high);
+          EXPECT_LE(split.rest.size(), pieces);
+          EXPECT_DOUBLE_EQ(split.multiplyAddsPerApply(),
+                           kind == KernelKind::Stencil
+                               ? makeStiffnessKernel<float>(kind, m, box, 1)->multiplyAddsPerApply()
+                               : 576.0 * box.count());
+          const float* pin[3] = {w[0].data(), w[1].data(), w[2].data()};
+          float* pout[3] = {parts[0].data(), parts[1].data(), parts[2].data()};
+          for (const auto& k : split.faces) k->apply(pin, pout);
+          for (int c = 0; c < 3; ++c) face_only[c] = parts[c];
+          for (const auto& k : split.rest) k->apply(pin, pout);
+          // Both within (m + 2) u (|f| + |K| |w|) of the exact sum (top of the file): their difference within twice.
+          std::vector<double> ref[3], bound[3];
+          naiveReference(m, box, in, ref, bound);
+          const double u = std::ldexp(1.0, -24), terms = kind == KernelKind::Stencil ? 81.0 : 192.0;
+          double max_diff = 0.0, face_diff = 0.0, max_kw = 0.0;
+          for (int c = 0; c < 3; ++c) {
+            for (size_t q = 0; q < m.nodeCount(); ++q) {
+              const double scale = 2.0 * (terms + 2.0) * u * bound[c][q];
+              max_kw = std::max(max_kw, std::abs(ref[c][q] - in.f[c][q]));
+              max_diff = std::max(max_diff, std::abs(double(parts[c][q]) - double(whole[c][q])) / scale);
+              const size_t i = q % (m.nx + 1);
+              if ((low && i == 0) || (high && i == m.nx))
+                face_diff = std::max(face_diff, std::abs(double(face_only[c][q]) - double(whole[c][q])) / scale);
+            }
+          }
+          ASSERT_GT(max_kw, 0.0);
+          const std::string what =
+              kernelName(kind) + " faces " + std::to_string(faces) + " pieces " + std::to_string(pieces);
+          if (kind == KernelKind::Stencil) {
+            EXPECT_EQ(max_diff, 0.0) << what;
+            EXPECT_EQ(face_diff, 0.0) << what;
+          } else {
+            EXPECT_LE(max_diff, 1.0) << what;
+            EXPECT_LE(face_diff, 1.0) << what;
+          }
+        }
+      }
+    }
+  }
+}
