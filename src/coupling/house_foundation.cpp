@@ -94,4 +94,18 @@ std::vector<soil::RigidBodySpec> attachedBodies(const ConfigNode& root, const so
   return {houseFoundation(root, house, soil_params).body};
 }
 
+soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint) {
+  soil::HouseReceivers house;
+  if (!root.has("building")) return house;
+  const building::BuildingParams params = building::loadBuildingParams(root);
+  house.free_field = building::freeFieldPoints(params);
+  // The house is driven at its foundation nodes: each becomes a soil receiver.
+  if (include_footprint) {
+    for (const auto& f : building::footprintPoints(params)) {
+      house.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m});
+    }
+  }
+  return house;
+}
+
 }  // namespace railvib::coupling

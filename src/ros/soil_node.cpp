@@ -35,7 +35,7 @@ struct SoilSetup {
 
 SoilSetup soilSetup(const ConfigNode& root, bool include_footprint) {
   SoilSetup s;
-  s.params = soil::loadSoilParams(root, SoilNode::houseReceivers(root, include_footprint));
+  s.params = soil::loadSoilParams(root, coupling::houseReceivers(root, include_footprint));
   // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
   if (include_footprint) s.bodies = coupling::attachedBodies(root, s.params);
   s.load_sample_rate_hz = track::loadTrackParams(root).load_sample_rate_hz;
@@ -86,20 +86,6 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, std::shared
   }
   layout_subscriber_ = nh.subscribe(names::kSleeperLayoutTopic, 1, &SoilNode::onLayout, this);
   loads_subscriber_ = nh.subscribe(names::kSoilLoadsTopic, 0, &SoilNode::onLoads, this);
-}
-
-soil::HouseReceivers SoilNode::houseReceivers(const ConfigNode& root, bool include_footprint) {
-  soil::HouseReceivers house;
-  if (!root.has("building")) return house;
-  const building::BuildingParams params = building::loadBuildingParams(root);
-  house.free_field = building::freeFieldPoints(params);
-  // The house is driven at its foundation nodes: each becomes a soil receiver.
-  if (include_footprint) {
-    for (const auto& f : building::footprintPoints(params)) {
-      house.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m});
-    }
-  }
-  return house;
 }
 
 void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {

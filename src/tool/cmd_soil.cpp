@@ -557,9 +557,7 @@ int soilRun(const std::vector<std::string>& args) {
   const Config cfg = loadConfig(p);
   const ConfigNode root = cfg.root();
   // The house's free-field receivers, as the soil node has them (its footprint is the building's input).
-  HouseReceivers house;
-  if (root.has("building")) house.free_field = building::freeFieldPoints(building::loadBuildingParams(root));
-  const SoilParams params = loadSoilParams(root, house);
+  const SoilParams params = loadSoilParams(root, coupling::houseReceivers(root, false));
   const double duration =
       p.getDouble("duration") <= 0.0 ? vehicle::loadPassageParams(root).duration_s : p.getDouble("duration");
 

@@ -40,4 +40,9 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
 /// house and building.coupling is two_way, else none.
 std::vector<soil::RigidBodySpec> attachedBodies(const ConfigNode& root, const soil::SoilParams& soil_params);
 
+/// The soil receivers a scenario's house needs: its free-field points, and, when the house is driven by
+/// this soil run (include_footprint), every footprint point (building::footprintPoints, in that order).
+/// None without a `building` section. The soil node and the tools hand them to soil::loadSoilParams.
+soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint);
+
 }  // namespace railvib::coupling

@@ -37,8 +37,6 @@ class SoilNode {
   static int serveOtherRank(std::shared_ptr<soil::SoilComm> comm);
   /// The soil model of every rank, from the setup text rank 0 sends (the merged scenario).
   static soil::SoilDriver::Factory modelFactory();
-  /// The house's receivers (free field, and footprint if asked), none without a `building` section.
-  static soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint);
   bool failed() const { return status_->failed(); }
 
  private:
