@@ -53,11 +53,9 @@ void bilinearFootprintMap(const BuildingModel& model, const std::vector<Footprin
   }
 }
 
-// Two-way: the foundation is rigid; its 6 DOFs (building frame, about the plan centre at the ground
-// surface) are the least-squares fit of the footprint receivers' motion (exact for a rigid motion).
-void rigidFoundationMap(const BuildingModel& model, const std::vector<int>& cd, Eigen::MatrixXd& fit,
-                        std::vector<Eigen::Triplet<double>>& tp) {
-  const BuildingParams& par = model.params();
+}  // namespace
+
+Eigen::MatrixXd footprintRigidFit(const BuildingParams& par) {
   const Eigen::Vector3d centre(0.5 * par.length_m, 0.5 * par.width_m, 0.0);
   const std::vector<FootprintPoint> footprint = footprintPoints(par);
   Eigen::MatrixXd a(3 * static_cast<Eigen::Index>(footprint.size()), 6);
@@ -66,7 +64,18 @@ void rigidFoundationMap(const BuildingModel& model, const std::vector<int>& cd, 
     a.block<3, 3>(3 * static_cast<Eigen::Index>(k), 0).setIdentity();
     a.block<3, 3>(3 * static_cast<Eigen::Index>(k), 3) << 0.0, r.z(), -r.y(), -r.z(), 0.0, r.x(), r.y(), -r.x(), 0.0;
   }
-  fit = (a.transpose() * a).ldlt().solve(a.transpose());
+  return (a.transpose() * a).ldlt().solve(a.transpose());
+}
+
+namespace {
+
+// Two-way: the foundation is rigid; its 6 DOFs (building frame, about the plan centre at the ground
+// surface) are the least-squares fit of the footprint receivers' motion (exact for a rigid motion).
+void rigidFoundationMap(const BuildingModel& model, const std::vector<int>& cd, Eigen::MatrixXd& fit,
+                        std::vector<Eigen::Triplet<double>>& tp) {
+  const BuildingParams& par = model.params();
+  const Eigen::Vector3d centre(0.5 * par.length_m, 0.5 * par.width_m, 0.0);
+  fit = footprintRigidFit(par);
   const Eigen::MatrixXd r = rigidMotionMap(model, centre);
   for (size_t q = 0; q < cd.size(); ++q) {
     for (int c = 0; c < 6; ++c) {

@@ -13,6 +13,10 @@
 
 namespace railvib::soil {
 
+double hannPulse(double t_s, double duration_s) {
+  return t_s < 0.0 || t_s >= duration_s ? 0.0 : 0.5 * (1.0 - std::cos(2.0 * M_PI * t_s / duration_s));
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -27,13 +31,11 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
   return y[k - 1] + f * (y[k] - y[k - 1]);
 }
 
-double hann(double t, double duration) {
-  return t < 0.0 || t >= duration ? 0.0 : 0.5 * (1.0 - std::cos(2.0 * M_PI * t / duration));
-}
-
 // One sine cycle under a Hann window: no net impulse, so the floating box of a model with dashpots on every
 // far face drifts back to rest instead of keeping an offset (J / c_dashpots) in the footing's displacement.
-double zeroImpulseWavelet(double t, double duration) { return hann(t, duration) * std::sin(2.0 * M_PI * t / duration); }
+double zeroImpulseWavelet(double t, double duration) {
+  return hannPulse(t, duration) * std::sin(2.0 * M_PI * t / duration);
+}
 
 // Fourier transform sum x_n exp(-i w t_n) dt of a sampled record.
 std::complex<double> fourier(const std::vector<double>& t, const std::vector<double>& x, double omega, double dt) {
@@ -536,7 +538,7 @@ KinematicResult runKinematic(const KinematicSpec& spec) {
     }
     const uint64_t steps = static_cast<uint64_t>(std::ceil(spec.duration_s / s.dt()));
     for (uint64_t n = 0; n < steps; ++n) {
-      s.setChannelValues({1.0e4 * hann(s.time(), spec.pulse_s)});
+      s.setChannelValues({1.0e4 * hannPulse(s.time(), spec.pulse_s)});
       s.step();
       double v[3];
       s.velocityAt(0.0, yc, 0.0, v);

@@ -1,4 +1,4 @@
-// railvib_tool ssi-bench footing-static | footing-impedance | block | kinematic: verification of the
+// railvib_tool ssi-bench footing-static | footing-impedance | block | kinematic | stiff-soil: verification of the
 // soil-structure interaction model against published solutions (docs/soil.md, "Soil-structure
 // interaction: verification"). The computations are in railvib/soil/ssi_verification.hpp.
 #include <cmath>
@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "railvib/coupling/stiff_soil_check.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/soil/soil_params.hpp"
 #include "railvib/soil/ssi_verification.hpp"
@@ -344,10 +345,62 @@ json kinematic(const ArgParser& p) {
   return out;
 }
 
+json stiffSoil(const ArgParser& p) {
+  // The scenario and its overrides as every command takes them; the check swaps the soil for rock.
+  coupling::StiffSoilSpec base;
+  base.scenario_file = p.get("config");
+  base.overrides = p.getAll("set");
+  base.front_wall_distance_m = p.getDouble("distance");
+  base.duration_s = p.getDouble("duration");
+  base.pulse_s = p.getDouble("pulse");
+  base.threads = static_cast<int>(p.getInt("threads"));
+  base.margin_m = p.getDouble("margin");
+  base.depth_m = p.getDouble("depth");
+  json runs = json::array();
+  for (double vs : numberList(p, "vs")) {
+    coupling::StiffSoilSpec spec = base;
+    spec.shear_wave_speed_m_s = vs;
+    const coupling::StiffSoilResult r = coupling::runStiffSoilCheck(spec);
+    json points = json::array();
+    for (const auto& pt : r.points) {
+      json comps;
+      const char* names[3] = {"vx", "vy", "vz"};
+      for (int c = 0; c < 3; ++c) {
+        comps[names[c]] = {{"two_way_vs_rigid_fit_of_free_field", pt.component[c].vs_rigid_fit},
+                           {"two_way_vs_one_way_pointwise", pt.component[c].vs_one_way},
+                           {"rms_two_way_m_s", pt.component[c].rms_two_way_m_s},
+                           {"rms_rigid_fit_m_s", pt.component[c].rms_rigid_fit_m_s}};
+      }
+      points.push_back({{"name", pt.name}, {"components", comps}});
+    }
+    runs.push_back({{"vs_m_s", vs},
+                    {"points", points},
+                    {"foundation_vz_two_way_vs_free_field_fit", r.foundation_vz_vs_free_field_fit},
+                    {"free_field_vz_non_rigid_share", r.free_field_non_rigid_share},
+                    {"house_mass_kg", r.house_mass_kg},
+                    {"carried_soil_mass_kg", r.carried_soil_mass_kg},
+                    {"mesh", {{"h_plan_m", r.hx_m}, {"elements", r.elements}, {"dt_s", r.dt_s}, {"steps", r.steps}}},
+                    {"seconds", {{"free_field", r.seconds_free_field}, {"two_way", r.seconds_two_way}}}});
+  }
+  json out;
+  out["runs"] = runs;
+  out["front_wall_distance_m"] = base.front_wall_distance_m;
+  out["box"] = {{"margin_m", base.margin_m}, {"depth_m", base.depth_m}, {"boundary", "dashpots"}};
+  out["load"] = {{"sleeper", "nearest x = 0"}, {"force_n", base.force_n}, {"hann_pulse_s", base.pulse_s}};
+  out["note"] =
+      "rms over the run of (two-way - reference) / rms(reference) per response point and component; reference "
+      "rigid_fit: the house driven by the rigid motion least-squares fitted to the free field at its footprint "
+      "(isolates the inertial interaction, which vanishes as the soil stiffens); one_way_pointwise: driven point by "
+      "point by the free field (adds the kinematic interaction of a rigid base under a non-uniform field)";
+  return out;
+}
+
 int ssiBench(const std::vector<std::string>& args) {
-  ArgParser p("ssi-bench",
-              "soil-structure interaction verification: footing-static | footing-impedance | block | kinematic");
-  p.option("case", "footing-static | footing-impedance | block | kinematic (or give it as first argument)", "");
+  ArgParser p(
+      "ssi-bench",
+      "soil-structure interaction verification: footing-static | footing-impedance | block | kinematic | stiff-soil");
+  p.option("case", "footing-static | footing-impedance | block | kinematic | stiff-soil (or give it as first argument)",
+           "");
   p.option("h",
            "element sizes (m, footing half width B = 1 m), comma-separated, decreasing: footing-static sweeps them in "
            "the first box, the dynamic cases extrapolate to h = 0 from the two finest",
@@ -362,8 +415,12 @@ int ssiBench(const std::vector<std::string>& args) {
   p.option("a0", "footing-impedance: dimensionless frequencies w B / Vs, comma-separated (default 0.25..2.5)", "");
   p.option("mass-ratio", "block: Lysmer mass ratios B_z, comma-separated", "2,5");
   p.option("mass-fraction", "kinematic: foundation mass / mass of the soil it replaces", "0.2");
-  p.option("duration", "kinematic: simulated time (s)", "0.8");
-  p.option("pulse", "kinematic: Hann load pulse duration (s)", "0.02");
+  p.option("duration", "kinematic, stiff-soil: simulated time (s)", "0.8");
+  p.option("pulse", "kinematic, stiff-soil: Hann load pulse duration (s)", "0.02");
+  p.option("vs", "stiff-soil: shear wave speeds of the rock (m/s), comma-separated", "10000");
+  p.option("distance", "stiff-soil: the house's front wall from the rail (m)", "30");
+  p.option("margin", "stiff-soil: box beyond the house and the loaded sleeper in plan (m)", "12");
+  p.option("depth", "stiff-soil: box depth (m)", "20");
   p.option("precision", "footing cases: double | float", "double");
   p.option("threads", "OpenMP threads (0 = all)", "0");
   p.option("csv", "write the time series to this CSV (block: prefix)", "");
@@ -379,8 +436,11 @@ int ssiBench(const std::vector<std::string>& args) {
     out = block(p);
   } else if (which == "kinematic") {
     out = kinematic(p);
+  } else if (which == "stiff-soil") {
+    out = stiffSoil(p);
   } else {
-    throw ArgError("ssi-bench: unknown case '" + which + "' (footing-static | footing-impedance | block | kinematic)");
+    throw ArgError("ssi-bench: unknown case '" + which +
+                   "' (footing-static | footing-impedance | block | kinematic | stiff-soil)");
   }
   out["case"] = which;
   printJson(out);

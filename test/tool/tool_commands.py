@@ -135,6 +135,14 @@ class Cases:
         check(len(meshes) == 2 and meshes[1] < meshes[0], meshes)
         check(0 < v["fe_normalised"] < boxes[-1], v["fe_normalised"])
         check(abs(v["gazetas_1991_normalised"] - 4.54) < 1e-9 and abs(v["pais_kausel_1988_normalised"] - 4.7) < 1e-9, v)
+        # The stiff-soil case on a small box and a short run (no accuracy: test_stiff_soil holds the 2 %): every
+        # response point has its three components, the house carries soil, the figures are finite.
+        s = self.run("ssi-bench", "stiff-soil", "--vs", 2500, "--margin", 6, "--depth", 8, "--duration", 0.1,
+                     "--distance", 10, "--threads", 1)
+        r = s["runs"][0]
+        check(r["carried_soil_mass_kg"] > 0 and 0 < r["foundation_vz_two_way_vs_free_field_fit"] < 1, r)
+        check(r["points"] and all(math.isfinite(c["two_way_vs_rigid_fit_of_free_field"])
+                                  for p in r["points"] for c in p["components"].values()), r["points"])
 
     # ------------------------------------------------------------------ building
     def validate(self):

@@ -31,6 +31,11 @@
 
 namespace railvib::building {
 
+/// The rigid motion (U, Theta: 6 DOFs, building frame, about the plan centre on the ground surface) least-squares
+/// fitted to velocities at the footprint points (3 per point, footprintPoints() order): a 6 x 3n matrix, exact for
+/// a rigid motion. The two-way coupling drives the house with it.
+Eigen::MatrixXd footprintRigidFit(const BuildingParams& params);
+
 class BuildingResponseSolver {
  public:
   /// sample_period_s: period of the footprint velocity samples; the solver sub-steps

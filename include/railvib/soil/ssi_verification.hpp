@@ -30,6 +30,9 @@ namespace railvib::soil {
 // ---- Published closed forms (homogeneous elastic half-space, rigid rectangular surface footing 2L x 2B,
 // L >= B the half sides, x along L; "rocking about x" turns about the long axis) ----
 
+/// Hann pulse 0.5 (1 - cos 2 pi t / T) for 0 <= t < T, else 0: the force history of the verification runs.
+double hannPulse(double t_s, double duration_s);
+
 /// Gazetas (1991), J. Geotech. Eng. 117(9), Table 1 (surface): K_z = 2 G L / (1 - nu) (0.73 + 1.54 chi^0.75),
 /// chi = A_b / (4 L^2).
 double gazetasVerticalStiffness(const Material& m, double l_m, double b_m);
