@@ -151,26 +151,25 @@ StiffSoilResult runStiffSoilCheck(const StiffSoilSpec& spec) {
   const std::string mat = "young_modulus_pa: " + num(2.0 * g * (1.0 + spec.poisson_ratio)) +
                           ", density_kg_m3: " + num(spec.density_kg_m3) + ", poisson_ratio: " + num(spec.poisson_ratio);
   std::vector<std::string> overrides = spec.overrides;
-  for (const std::string& o : std::vector<std::string>{
-           "soil.layers=[{thickness_m: " + num(house.foundation_depth_m) + ", " + mat +
-               "}, {thickness_m: " + num(spec.level_m - house.foundation_depth_m) + ", " + mat + "}]",
-           "soil.half_space={" + mat + "}",
-           "soil.rayleigh_beta_s=" + num(spec.rayleigh_beta_s),
-           "soil.mesh.elements_per_wavelength=" + num(epw),
-           "soil.mesh.max_plane_size_m=" + num(h),
-           "soil.mesh.x_min_m=" + num(-x_half),
-           "soil.mesh.x_max_m=" + num(x_half),
-           "soil.mesh.y_min_m=" + num(y_min),
-           "soil.mesh.y_max_m=" + num(y_max),
-           "soil.mesh.depth_m=" + num(spec.depth_m),
-           "soil.mesh.threads=" + std::to_string(spec.threads),
-           "soil.mesh.ranks=0",
-           "soil.boundary.method=dashpots",
-           "site.building.front_wall_distance_from_rail_m=" + num(spec.front_wall_distance_m),
-           "site.building.center_x_m=0.0",
-       }) {
-    overrides.push_back(o);
-  }
+  overrides.insert(overrides.end(),
+                   {
+                       "soil.layers=[{thickness_m: " + num(house.foundation_depth_m) + ", " + mat +
+                           "}, {thickness_m: " + num(spec.level_m - house.foundation_depth_m) + ", " + mat + "}]",
+                       "soil.half_space={" + mat + "}",
+                       "soil.rayleigh_beta_s=" + num(spec.rayleigh_beta_s),
+                       "soil.mesh.elements_per_wavelength=" + num(epw),
+                       "soil.mesh.max_plane_size_m=" + num(h),
+                       "soil.mesh.x_min_m=" + num(-x_half),
+                       "soil.mesh.x_max_m=" + num(x_half),
+                       "soil.mesh.y_min_m=" + num(y_min),
+                       "soil.mesh.y_max_m=" + num(y_max),
+                       "soil.mesh.depth_m=" + num(spec.depth_m),
+                       "soil.mesh.threads=" + std::to_string(spec.threads),
+                       "soil.mesh.ranks=0",
+                       "soil.boundary.method=dashpots",
+                       "site.building.front_wall_distance_from_rail_m=" + num(spec.front_wall_distance_m),
+                       "site.building.center_x_m=0.0",
+                   });
   overrides.push_back("building.coupling=one_way");
   const Config one_way = Config::load(spec.scenario_file, overrides);
   overrides.back() = "building.coupling=two_way";

@@ -29,6 +29,11 @@ std::vector<double> numberList(const ArgParser& p, const std::string& key) {
   return v;
 }
 
+// An option whose default is its case's spec default (one place for it): assigned only when given.
+void assignIfGiven(const ArgParser& p, const std::string& key, double& value) {
+  if (p.has(key) && !p.get(key).empty()) value = p.getDouble(key);
+}
+
 json materialJson(const Material& m) {
   return {{"shear_modulus_pa", m.shearModulus()},
           {"density_kg_m3", m.density_kg_m3},
@@ -310,8 +315,8 @@ json kinematic(const ArgParser& p) {
   spec.y_max_m = sp.mesh.y_max_m;
   spec.depth_m = sp.mesh.depth_m;
   spec.mass_fraction = p.getDouble("mass-fraction");
-  spec.duration_s = p.getDouble("duration");
-  spec.pulse_s = p.getDouble("pulse");
+  assignIfGiven(p, "duration", spec.duration_s);
+  assignIfGiven(p, "pulse", spec.pulse_s);
   const KinematicResult r = runKinematic(spec);
   json bands = json::array();
   for (const KinematicBand& b : r.bands) {
@@ -350,12 +355,12 @@ json stiffSoil(const ArgParser& p) {
   coupling::StiffSoilSpec base;
   base.scenario_file = p.get("config");
   base.overrides = p.getAll("set");
-  base.front_wall_distance_m = p.getDouble("distance");
-  base.duration_s = p.getDouble("duration");
-  base.pulse_s = p.getDouble("pulse");
+  assignIfGiven(p, "distance", base.front_wall_distance_m);
+  assignIfGiven(p, "duration", base.duration_s);
+  assignIfGiven(p, "pulse", base.pulse_s);
+  assignIfGiven(p, "margin", base.margin_m);
+  assignIfGiven(p, "depth", base.depth_m);
   base.threads = static_cast<int>(p.getInt("threads"));
-  base.margin_m = p.getDouble("margin");
-  base.depth_m = p.getDouble("depth");
   json runs = json::array();
   for (double vs : numberList(p, "vs")) {
     coupling::StiffSoilSpec spec = base;
@@ -415,12 +420,12 @@ int ssiBench(const std::vector<std::string>& args) {
   p.option("a0", "footing-impedance: dimensionless frequencies w B / Vs, comma-separated (default 0.25..2.5)", "");
   p.option("mass-ratio", "block: Lysmer mass ratios B_z, comma-separated", "2,5");
   p.option("mass-fraction", "kinematic: foundation mass / mass of the soil it replaces", "0.2");
-  p.option("duration", "kinematic, stiff-soil: simulated time (s)", "0.8");
-  p.option("pulse", "kinematic, stiff-soil: Hann load pulse duration (s)", "0.02");
+  p.option("duration", "kinematic, stiff-soil: simulated time (s; default kinematic 0.8, stiff-soil 0.5)");
+  p.option("pulse", "kinematic, stiff-soil: Hann load pulse duration (s; default kinematic 0.02, stiff-soil 0.03)");
   p.option("vs", "stiff-soil: shear wave speeds of the rock (m/s), comma-separated", "10000");
-  p.option("distance", "stiff-soil: the house's front wall from the rail (m)", "30");
-  p.option("margin", "stiff-soil: box beyond the house and the loaded sleeper in plan (m)", "12");
-  p.option("depth", "stiff-soil: box depth (m)", "20");
+  p.option("distance", "stiff-soil: the house's front wall from the rail (m; default 30)");
+  p.option("margin", "stiff-soil: box beyond the house and the loaded sleeper in plan (m; default 12)");
+  p.option("depth", "stiff-soil: box depth (m; default 20)");
   p.option("precision", "footing cases: double | float", "double");
   p.option("threads", "OpenMP threads (0 = all)", "0");
   p.option("csv", "write the time series to this CSV (block: prefix)", "");
