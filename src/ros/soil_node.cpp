@@ -11,6 +11,7 @@
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/coupling/house_foundation.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/scenario/scenario.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 
@@ -75,6 +76,10 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, std::shared
   params_ = setup.params;
   load_sample_rate_hz_ = setup.load_sample_rate_hz;
   setup_ = setupText(config, include_footprint);
+  if (include_footprint) {
+    for (const std::string& note : scenario::soilSensorsOnTheFoundation(config.root(), params_.receivers))
+      ROS_WARN("soil: %s", note.c_str());
+  }
   limits_ = loadStreamLimits(config.root());
   status_ = std::make_unique<NodeStatus>(nh, "soil", vehicle::loadPassageParams(config.root()).duration_s);
   velocity_publisher_ =

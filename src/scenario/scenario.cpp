@@ -29,6 +29,29 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 
 }  // namespace
 
+std::vector<std::string> soilSensorsOnTheFoundation(const ConfigNode& root,
+                                                    const std::vector<soil::ReceiverSpec>& receivers) {
+  std::vector<std::string> out;
+  if (!root.has("building") || !root.has("virtual_sensors")) return out;
+  const building::BuildingParams house = building::loadBuildingParams(root);
+  if (house.coupling != building::SoilCoupling::TwoWay) return out;
+  const BuildingPlacement& plan = house.placement;
+  for (const auto& s : signal::loadVirtualSensorConfig(root).sensors) {
+    if (s.source == "building") continue;
+    for (const auto& r : receivers) {
+      if (r.name != s.point || !plan.containsPlanPoint(r.x_m, r.y_m)) continue;
+      std::ostringstream note;
+      note << "sensor " << s.spec.name << " at (" << r.x_m << ", " << r.y_m
+           << ") m stands on the house's foundation (plan x " << plan.origin_x_m << ".."
+           << plan.origin_x_m + plan.length_m << " m, y " << plan.origin_y_m << ".." << plan.origin_y_m + plan.width_m
+           << " m): with building.coupling two_way the foundation is part of the soil, so it records the "
+              "foundation's rigid motion, not the free field (that is the run with coupling one_way)";
+      out.push_back(note.str());
+    }
+  }
+  return out;
+}
+
 nlohmann::json validateScenario(const Config& config) {
   const ConfigNode root = config.root();
   const vehicle::PassageParams passage = vehicle::loadPassageParams(root);
@@ -105,6 +128,7 @@ nlohmann::json validateScenario(const Config& config) {
                          "building",   "site",    "virtual_sensors", "limits"};
   summary["track_foundation"] = track::foundationName(track.foundation);
   summary["virtual_sensors"] = sensor_list;
+  summary["notes"] = soilSensorsOnTheFoundation(root, soil.receivers);
   summary["rates_hz"] = {{"contact_forces", step_rate_hz},
                          {"soil_loads", track.load_sample_rate_hz},
                          {"surface_velocities", soil.receiver_rate_hz},

@@ -36,6 +36,11 @@ struct BuildingPlacement {
   double origin_y_m = 0.0;
   double trackX(double x_building_m) const { return origin_x_m + x_building_m; }
   double trackY(double y_building_m) const { return origin_y_m + y_building_m; }
+  /// Whether a point of frame track (m) lies on the house's outer plan, edges included.
+  bool containsPlanPoint(double x_track_m, double y_track_m) const {
+    return x_track_m >= origin_x_m && x_track_m <= origin_x_m + length_m && y_track_m >= origin_y_m &&
+           y_track_m <= origin_y_m + width_m;
+  }
 };
 
 struct SiteLayout {

@@ -131,6 +131,25 @@ TEST(Scenario, TheShippedScenariosAreValid) {
   }
 }
 
+// With two-way coupling the foundation is part of the soil: a ground sensor inside the house's plan
+// (Haren's 8 m point: the house spans y 4.7175..11.7175 m in front of the defect) records the
+// foundation, and the scenario says so; on the plan's edge it still does, 1 cm off it it does not.
+TEST(Scenario, GroundSensorsOnTheTwoWayFoundationAreNamed) {
+  auto notes = [](std::vector<std::string> overrides) {
+    return validateScenario(Config::load(configPath("haren.yaml"), overrides))["notes"];
+  };
+  const nlohmann::json two_way = notes({});
+  ASSERT_EQ(two_way.size(), 1u) << two_way.dump();
+  const std::string note = two_way[0].get<std::string>();
+  EXPECT_EQ(note.rfind("sensor ground_8m at (0, 8) m stands on the house's foundation", 0), 0u) << note;
+  EXPECT_NE(note.find("coupling one_way"), std::string::npos) << note;
+  EXPECT_TRUE(notes({"building.coupling=one_way"}).empty());
+  const std::string sensors = "site.ground_sensors=[{name: ground_2m, x_m: 0.0, y_m: 2.0}, {name: ground_8m, x_m: ";
+  EXPECT_EQ(notes({sensors + "5.0, y_m: 11.7175}]"}).size(), 1u);  // the plan's corner
+  EXPECT_TRUE(notes({sensors + "5.01, y_m: 8.0}]"}).empty());
+  EXPECT_TRUE(notes({sensors + "0.0, y_m: 4.7075}]"}).empty());  // 1 cm in front of the front wall
+}
+
 // Every case in the regular build; every n-th (RAILVIB_FUZZ_STRIDE = n) in the sanitizer build, where
 // one scenario check takes ~10 x longer (./railvib sanitize sets it).
 size_t fuzzStride() {
