@@ -335,8 +335,15 @@ def main(argv):
         die(f"--window {a.window}: must be a positive number of seconds")
     house_bag = pathlib.Path(a.house_bag)
     run_a, run_b = SensorRun(a.free_bag), SensorRun(a.house_bag)
-    if not (run_a.has_house() and run_b.has_house()):
-        # Not a one-way / two-way pair: the two runs' sensors side by side.
+    couplings = []
+    for path in (a.free_bag, a.house_bag):
+        with rosbag.Bag(str(path)) as bag:
+            couplings.append(report.recorded_coupling(bag)[0])
+    if couplings == ["two_way", "one_way"]:
+        die(f"{a.free_bag} ran two-way and {a.house_bag} one-way: give the free-field (one_way) run first")
+    pair = None not in couplings and couplings[0] != couplings[1]
+    if not (run_a.has_house() and run_b.has_house()) or (None not in couplings and not pair):
+        # Not a one-way / two-way pair (no house, or the same coupling twice): the sensors side by side.
         outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(
             house_bag.stem + "_vs_" + pathlib.Path(a.free_bag).stem)
         outdir.mkdir(parents=True, exist_ok=True)

@@ -226,6 +226,21 @@ def config_value(config, path):
     return node
 
 
+def recorded_coupling(bag):
+    """building.coupling of the run (one_way | two_way) as the bag's scenario record has it, and why not
+    when it is not known (no record, a bag from an older railvib, no house)."""
+    record, why_not = scenario_record(bag)
+    if record is None:
+        return None, why_not
+    value = config_value(record.get("config"), "building.coupling")
+    if value is None:
+        # A house section without the key ran one_way (the loader's default).
+        if config_value(record.get("config"), "building") is None:
+            return None, "the recorded scenario has no house"
+        value = "one_way"
+    return str(value), None
+
+
 def config_number(config, path):
     value = config_value(config, path)
     if isinstance(value, bool):
@@ -719,6 +734,10 @@ def main(argv):
             snames = list(ss[0].sensor_names)
             floors = [n for n in ("house_ground_floor", "house_first_floor") if n in snames]
             if floors:
+                # With two-way coupling the soil at the response point is the foundation, not the free field:
+                # that comes from the one_way run (./railvib compare FREE.bag THIS.bag).
+                two_way = config_value(config, "building.coupling") == "two_way"
+                soil_label = "soil there (two-way: the foundation)" if two_way else "free field (no house)"
                 vs, vf = v, vel  # the sensor and receiver records stacked above
                 ts = np.arange(len(vs)) * ss[0].sample_period_s
                 tf = np.arange(len(vf)) * sv[0].sample_period_s
@@ -728,19 +747,21 @@ def main(argv):
                     house_v = vs[:, snames.index(name), 2] * 1e3
                     ax = axes[row][0]
                     ax.plot(ts, house_v, lw=0.7, label=name)
-                    ax.plot(tf, free, "r--", lw=0.6, label="free field (no house)")
+                    ax.plot(tf, free, "r--", lw=0.6, label=soil_label)
                     ax.set_xlabel("time [s]")
                     ax.set_ylabel("v_z [mm/s]")
                     ax.legend(fontsize=8)
                     ax = axes[row][1]
-                    for t_, x_, style, label in ((ts, house_v, "-", name), (tf, free, "r--", "free field")):
+                    for t_, x_, style, label in ((ts, house_v, "-", name), (tf, free, "r--", soil_label)):
                         fr, amp = spectrum(t_, x_)
                         ax.plot(fr, amp, style, lw=0.7, label=label)
                     spectrum_axes(ax, f_max_hz, mesh_f_max_hz)
                     ax.legend(fontsize=8)
                     for a in axes[row]:
                         a.grid(alpha=0.3)
-                fig.suptitle("House response points (mid-width, 3/4 length) vs the free field there")
+                fig.suptitle("House response points (mid-width, 3/4 length) vs the soil under them (two-way; the "
+                             "free field is the one_way run: ./railvib compare FREE.bag THIS.bag)" if two_way else
+                             "House response points (mid-width, 3/4 length) vs the free field there")
                 fig.tight_layout()
                 fig.savefig(outdir / "building_vs_free_field.png", dpi=110)
                 plt.close(fig)

@@ -3,8 +3,13 @@
 2 m and 8 m, Winkler vs CLM, house vs free field, first floor vs ground floor, KB_F), from the bags
 of `./railvib run` (docs/validation.md).
 
-usage: ./railvib exec python3 scripts/validation_chain.py BAG [--winkler BAG] [--two-way BAG]
+usage: ./railvib exec python3 scripts/validation_chain.py FREE_FIELD_BAG [--winkler BAG] [--two-way BAG]
                                         [--config FILE] [--out DIR] [--set key=value ...]
+
+FREE_FIELD_BAG and the --winkler bag: runs with building.coupling one_way, whose soil does not see the
+house (the free field the paper validated against Haren: `./railvib run haren coupling:=one_way`);
+--two-way: the default run, where the house acts on the soil (the house's claims are judged on it).
+Each bag's recorded scenario must say so: a bag of the other coupling is refused.
 
 Exports the vertical velocity of every virtual sensor (/sensor_samples) and of the free-field
 point at the house's response point (/surface_velocities, `bldg_response_point`) to
@@ -24,6 +29,7 @@ import sys
 import numpy as np
 
 import railvib_names as names  # noqa: E402
+import report  # noqa: E402  (the scenario record: one place)
 from railvib_paths import find_railvib_tool  # noqa: E402
 
 try:
@@ -43,8 +49,15 @@ def blocks(bag, topic):
     return out
 
 
-def export(bag_path, out_dir):
+def export(bag_path, out_dir, coupling):
     with rosbag.Bag(str(bag_path)) as bag:
+        recorded, why_not = report.recorded_coupling(bag)
+        if recorded is None:
+            print(f"validation_chain: {bag_path}: building.coupling not known ({why_not}); taken as {coupling}",
+                  file=sys.stderr)
+        elif recorded != coupling:
+            sys.exit(f"validation_chain: {bag_path} ran with building.coupling {recorded}, this input needs "
+                     f"{coupling} (the free-field runs: coupling:=one_way; --two-way: the default run)")
         ss = blocks(bag, names.SENSOR_SAMPLES)
         if not ss:
             sys.exit(f"validation_chain: {bag_path} has no {names.SENSOR_SAMPLES}")
@@ -73,9 +86,9 @@ def export(bag_path, out_dir):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("bag", help="bag of a CLM run (./railvib run)")
-    ap.add_argument("--winkler", help="bag of the same run with foundation:=winkler")
-    ap.add_argument("--two-way", help="bag of the same run with coupling:=two_way (the house acts on the soil)")
+    ap.add_argument("bag", help="bag of the free-field CLM run (./railvib run haren coupling:=one_way)")
+    ap.add_argument("--winkler", help="bag of the same run with foundation:=winkler (coupling:=one_way)")
+    ap.add_argument("--two-way", help="bag of the default run, coupling two_way (the house acts on the soil)")
     ap.add_argument("--config", help="scenario of the runs (default: config/haren.yaml)")
     ap.add_argument("--set", action="append", default=[], help="the run's overrides, key=value")
     ap.add_argument("--out", default=None, help="directory for the exported CSVs (default: next to the bag)")
@@ -84,11 +97,11 @@ def main():
     out_dir = pathlib.Path(a.out) if a.out else pathlib.Path(a.bag).parent
     out_dir.mkdir(parents=True, exist_ok=True)
     cmd = [find_railvib_tool() or sys.exit("validation_chain: railvib_tool not found (./railvib setup)"),
-           "validate", "--no-models", "--chain", str(export(a.bag, out_dir))]
+           "validate", "--no-models", "--chain", str(export(a.bag, out_dir, "one_way"))]
     if a.winkler:
-        cmd += ["--chain-winkler", str(export(a.winkler, out_dir))]
+        cmd += ["--chain-winkler", str(export(a.winkler, out_dir, "one_way"))]
     if a.two_way:
-        cmd += ["--chain-two-way", str(export(a.two_way, out_dir))]
+        cmd += ["--chain-two-way", str(export(a.two_way, out_dir, "two_way"))]
     if a.config:
         cmd += ["--config", a.config]
     for s in a.set:

@@ -28,10 +28,15 @@ int validate(const std::vector<std::string>& args) {
   p.flag("quick", "skip the claims that need a passage or the building's impulse response (for the test suite)");
   p.flag("readings", "also run the readings of the paper's vehicle parameters (modes, mass; see --readings-passage)");
   p.flag("readings-passage", "with --readings: also a short passage per reading (ringing after the impact)");
-  p.option("chain", "virtual-sensor records of a CLM chain run (CSV t_s, <sensor>_vz_m_s; scripts/validation_chain.py)",
+  p.option("chain",
+           "virtual-sensor records of the free-field chain run: CLM, building.coupling one_way (CSV t_s, "
+           "<sensor>_vz_m_s; scripts/validation_chain.py)",
            "");
-  p.option("chain-winkler", "the same for a Winkler run (chain.winkler_vs_clm)", "");
-  p.option("chain-two-way", "the same for a run with building.coupling: two_way (chain.house_amplitude_reduction)", "");
+  p.option("chain-winkler", "the same for the free-field run with Winkler (chain.winkler_vs_clm)", "");
+  p.option("chain-two-way",
+           "the same for the run with building.coupling two_way, the default (the house's claims, "
+           "chain.house_amplitude_reduction)",
+           "");
   p.flag("no-models", "with --chain: only the chain claims");
   p.option("markdown", "also write the table as Markdown to this file", "");
   if (!p.parse(args)) return 0;

@@ -231,10 +231,11 @@ class BagCheck(unittest.TestCase):
             self.assertNotIn("Traceback", out.stderr, name)
 
 
-def house_bag(path, scale, with_house=True):
+def house_bag(path, scale, with_house=True, coupling=None):
     """A 2 s record at 1000 Hz of two ground sensors and the two floors, the surface receivers (the
     house's response point among them), and the section through the house: every signal is `scale`
-    x the same decaying 20 Hz impact at 0.5 s."""
+    x the same decaying 20 Hz impact at 0.5 s. With `coupling`, a scenario record saying the run's
+    building.coupling."""
     fs, n = 1000.0, 2000
     wave = [0.0 if k < 500 else 1e-3 * math.exp(-(k - 500) / fs / 0.05) * math.sin(2 * math.pi * 20 * (k - 500) / fs)
             for k in range(n)]
@@ -242,6 +243,8 @@ def house_bag(path, scale, with_house=True):
     receivers = ["line_y1", names.BUILDING_RESPONSE_FREE_FIELD_POINT, "bldg_front_mid", "bldg_back_mid"]
     rec_y = [1.0, 8.0, 4.7, 11.7]
     msgs = []
+    if coupling:
+        msgs.append((names.SCENARIO, String(data=f"railvib_version: test\nconfig:\n  building:\n    coupling: {coupling}\n")))
     layout = rm.PointLayout()
     layout.names = receivers if with_house else receivers[:1]
     layout.positions = [Point(0.0, y, 0.0) for y in rec_y[:len(layout.names)]]
@@ -313,6 +316,25 @@ class Compare(unittest.TestCase):
             self.assertAlmostEqual(r["b"]["dominant_frequency_z_hz"], r["a"]["dominant_frequency_z_hz"], places=9)
         self.assertGreater((WORK / "cmp_runs" / "sensors.png").stat().st_size, 10000)
         self.assertIn("| ground_2m | ppv_z_mm_s |", (WORK / "cmp_runs" / "compare.md").read_text())
+
+    def test_the_recorded_couplings_decide_the_order_and_the_kind_of_comparison(self):
+        # The free-field (one_way) run comes first: the swapped pair is refused, not labelled wrongly.
+        free = house_bag(WORK / "cmp_rec_free.bag", 1.0, coupling="one_way")
+        house = house_bag(WORK / "cmp_rec_house.bag", 0.5, coupling="two_way")
+        out = self.run_compare(house, free, WORK / "cmp_swapped")
+        self.assertNotEqual(out.returncode, 0)
+        self.assertIn("give the free-field (one_way) run first", out.stderr)
+        self.assertNotIn("Traceback", out.stderr)
+        out = self.run_compare(free, house, WORK / "cmp_rec")
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertIn("soil under the house", json.loads((WORK / "cmp_rec" / "compare.json").read_text())["records"])
+        # Two two-way runs (e.g. two speeds) are not a house-effect pair: sensor by sensor.
+        other = house_bag(WORK / "cmp_rec_house2.bag", 0.25, coupling="two_way")
+        out = self.run_compare(house, other, WORK / "cmp_rec_two")
+        self.assertEqual(out.returncode, 0, out.stderr)
+        result = json.loads((WORK / "cmp_rec_two" / "compare.json").read_text())
+        self.assertAlmostEqual(result["sensors"]["ground_2m"]["b"]["ppv_z_mm_s"] /
+                               result["sensors"]["ground_2m"]["a"]["ppv_z_mm_s"], 0.5, places=9)
 
     def test_a_bag_without_sensors_is_refused(self):
         loud = house_bag(WORK / "cmp_loud2.bag", 1.0, with_house=False)

@@ -69,9 +69,12 @@ struct SensorRecords {
 /// receivers.csv, or scripts/validation_chain.py's export of a bag).
 SensorRecords readSensorRecords(const std::string& csv_path);
 
-/// The chain claims from a run with the CLM foundation (one-way coupling: the soil does not see the
-/// house, so its receiver at the house is the free field without it) and, if given, the same run
-/// with Winkler, and the same run with building.coupling: two_way (the house acts on the soil).
+/// The chain claims from the free-field run (CLM foundation, building.coupling one_way: the soil does
+/// not see the house, so its sensors and its receiver at the house are the free field without it, the
+/// configuration the paper validated against Haren) and, if given, the same run with Winkler, and the
+/// same run with building.coupling two_way (the default: the house acts on the soil). The house's
+/// claims (floors, KB_F, house vs free field) are judged on the two-way run when it is given, else on
+/// the one-way house of the free-field run.
 std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, const SensorRecords* winkler,
                                const SensorRecords* two_way = nullptr);
 

@@ -120,6 +120,27 @@ TEST(Validation, HouseAmplitudeReductionComparesTheSoilAtTheHouseWithAndWithoutI
   }
 }
 
+TEST(Validation, TheHouseIsJudgedOnTheTwoWayRunAndTheGroundOnTheFreeField) {
+  // Free field like the paper's (ground at 23 Hz, floor at its 12.6 Hz mode), two-way run like ours
+  // (33 Hz everywhere): the ground claims follow the free-field run, the house's the two-way run.
+  const Config cfg = haren();
+  const SensorRecords free_field = readSensorRecords(writeRecords("judged_free", 23.0, 12.64, 0.4));
+  const SensorRecords two_way = readSensorRecords(writeRecords("judged_two_way", 33.0, 33.0, 0.03));
+  const auto claims = chainClaims(cfg, free_field, nullptr, &two_way);
+  EXPECT_EQ(find(claims, "chain.ground_spectrum.ground_2m").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(claims, "chain.ground_spectrum.ground_8m").verdict, Verdict::Agrees);
+  for (const char* id : {"chain.first_floor_bending_modes", "chain.kbf_impacts_resolved"}) {
+    EXPECT_EQ(find(claims, id).verdict, Verdict::Differs) << id;
+    EXPECT_EQ(find(claims, id).ours.rfind("two-way: ", 0), 0u) << find(claims, id).ours;
+  }
+  // house ground floor (two-way, 33 Hz) against the free field there (23 Hz): 10 Hz apart
+  EXPECT_EQ(find(claims, "chain.house_ground_vs_free_field").verdict, Verdict::Differs);
+  // without the two-way run the one-way house of the free-field run is judged, and says so
+  const auto one_way = chainClaims(cfg, free_field, nullptr);
+  EXPECT_EQ(find(one_way, "chain.first_floor_bending_modes").verdict, Verdict::Agrees);
+  EXPECT_EQ(find(one_way, "chain.first_floor_bending_modes").ours.rfind("one-way: ", 0), 0u);
+}
+
 TEST(Validation, ReadingsAreConfigOverridesThatLoad) {
   const Config cfg = haren();
   const auto readings = t2000Readings(cfg);
