@@ -24,9 +24,7 @@ SlabPartition makeSlabPartition(size_t nx, int ranks, int rank, size_t min_colum
   p.rank = rank;
   p.cuts.resize(static_cast<size_t>(ranks) + 1);
   const size_t n = static_cast<size_t>(ranks);
-  // Rounded down: when the columns do not divide evenly the spare ones go to the later ranks, and
-  // rank 0, which also gathers the outputs and scatters the loads, keeps the fewest.
-  for (size_t r = 0; r <= n; ++r) p.cuts[r] = nx * r / n;
+  for (size_t r = 0; r <= n; ++r) p.cuts[r] = (nx * r + n / 2) / n;
   p.cuts[n] = nx;
   if (ranks == 1) return p;
   const size_t need_end = std::max(min_columns, min_end_columns);

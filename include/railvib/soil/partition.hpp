@@ -37,8 +37,7 @@ struct SlabPartition {
   int ownerOfColumn(size_t i) const;
 };
 
-/// Balanced slabs (column counts differ by at most one; rank 0, which gathers the outputs, has the
-/// fewest) of a mesh with nx element columns.
+/// Balanced slabs (column counts differ by at most one) of a mesh with nx element columns.
 /// `min_end_columns`: the least columns of the first and last slab (e.g. a boundary layer plus one),
 /// `min_columns` of the others. Throws std::invalid_argument naming the counts when the ranks do not fit.
 SlabPartition makeSlabPartition(size_t nx, int ranks, int rank, size_t min_columns, size_t min_end_columns);
@@ -46,7 +45,7 @@ SlabPartition makeSlabPartition(size_t nx, int ranks, int rank, size_t min_colum
 /// The slab [i0, i1) of element columns of a mesh, as a mesh of its own (x0 moved, the rest kept).
 StructuredMesh sliceMesh(const StructuredMesh& mesh, size_t i0, size_t i1);
 
-/// Partition summary line for logs: "2 ranks, element columns [0, 56) [56, 113)" (Haren).
+/// Partition summary line for logs: "2 ranks, element columns [0, 57) [57, 113)".
 std::string describePartition(const SlabPartition& p);
 
 }  // namespace railvib::soil
