@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <iomanip>
+#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -24,6 +25,8 @@ namespace {
 
 using nlohmann::json;
 using track::FoundationModel;
+using track::Rail;
+using track::RailLoading;
 using track::TrackModel;
 using track::TrackParams;
 
@@ -78,9 +81,20 @@ int runReceptance(const std::vector<std::string>& argv) {
       .option("df", "frequency step (Hz)", "0.5")
       .option("csv", "output CSV file")
       .option("vary", "kb | kf: sweep the ballast or foundation stiffness by --factors (others fixed)")
-      .option("factors", "comma-separated stiffness factors of --vary", "0.5,0.75,1,1.5,2");
+      .option("factors", "comma-separated stiffness factors of --vary", "0.5,0.75,1,1.5,2")
+      .option("load",
+              "left | right | both | anti: the rails loaded, 1 N each (both: in phase, anti: left down, right up); "
+              "the receptance is the left rail's (the right's for right). right and anti need track.width: full",
+              "left");
   if (!args.parse(argv)) return 0;
   if (!args.has("csv")) throw ArgError("receptance: --csv OUT is required");
+  const std::string load_name = args.get("load");
+  const std::map<std::string, RailLoading> loadings{{"left", RailLoading::Left},
+                                                    {"right", RailLoading::Right},
+                                                    {"both", RailLoading::Both},
+                                                    {"anti", RailLoading::AntiPhase}};
+  if (!loadings.count(load_name)) throw ArgError("--load must be left, right, both or anti");
+  const RailLoading loading = loadings.at(load_name);
   const std::string at = args.get("at");
   if (at != "midspan" && at != "sleeper") throw ArgError("--at must be midspan or sleeper");
   const double fmin = positiveOption(args, "fmin"), fmax = positiveOption(args, "fmax"),
@@ -94,6 +108,9 @@ int runReceptance(const std::vector<std::string>& argv) {
 
   const Config cfg = loadWithFoundation(args);
   const TrackParams base = track::loadTrackParams(cfg.root());
+  if (base.width == track::TrackWidth::Half && (loading == RailLoading::Right || loading == RailLoading::AntiPhase)) {
+    throw ArgError("--load " + load_name + " needs both rails: --set track.width=full (the half track has one rail)");
+  }
   std::vector<double> f;
   for (long i = 0;; ++i) {
     const double v = fmin + static_cast<double>(i) * df;
@@ -126,8 +143,14 @@ int runReceptance(const std::vector<std::string>& argv) {
       p.winkler.stiffness_n_m *= factor;
     }
     const TrackModel model(p);
-    curves.push_back(model.receptance(x, f));
-    const Eigen::VectorXd u = model.staticDeflection({{x, 1.0}});
+    curves.push_back(model.receptance(x, f, loading));
+    std::vector<track::PointLoad> unit;
+    const bool full = model.railCount() == 2;
+    if (loading != RailLoading::Right) unit.push_back({x, 1.0, Rail::Left});
+    if (full && loading != RailLoading::Left)
+      unit.push_back({x, loading == RailLoading::AntiPhase ? -1.0 : 1.0, Rail::Right});
+    const Rail observed = loading == RailLoading::Right ? Rail::Right : Rail::Left;
+    const Eigen::VectorXd u = model.staticDeflection(unit);
     json peaks = json::array();
     int resonance = 0;
     for (const auto& pk : track::findPeaks(f, curves.back())) {
@@ -145,7 +168,7 @@ int runReceptance(const std::vector<std::string>& argv) {
       }
       peaks.push_back({{"frequency_hz", pk.frequency_hz}, {"magnitude_m_n", pk.magnitude_m_n}, {"mode", kind}});
     }
-    json run = {{"static_receptance_m_n", model.railPoint(x).displacement(u)}, {"peaks", peaks}};
+    json run = {{"static_receptance_m_n", model.railPoint(x, observed).displacement(u)}, {"peaks", peaks}};
     if (!vary.empty()) {
       run["factor"] = factor;
       run[vary == "kb" ? "ballast_stiffness_n_m" : "foundation_stiffness_n_m"] =
@@ -168,6 +191,8 @@ int runReceptance(const std::vector<std::string>& argv) {
   csv.commit();
   json summary = {{"command", "receptance"},
                   {"foundation", track::foundationName(base.foundation)},
+                  {"width", base.width == track::TrackWidth::Full ? "full" : "half"},
+                  {"load", load_name},
                   {"at", at},
                   {"x_m", x},
                   {"f_pinned_pinned_hz", fpp},

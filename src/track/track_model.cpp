@@ -23,12 +23,31 @@ void addPair(Triplets& t, Eigen::Index a, Eigen::Index b, double value) {
 }
 }  // namespace
 
-TrackModel::TrackModel(const TrackParams& params) : params_(params) { build(); }
+TrackModel::TrackModel(const TrackParams& params) : params_(params), rails_(params.width == TrackWidth::Full ? 2 : 1) {
+  build();
+}
+
+size_t TrackModel::seatIndex(Rail rail) const {
+  const size_t seat = rail == Rail::Left ? 0 : 1;
+  if (seat >= static_cast<size_t>(rails_)) {
+    throw std::invalid_argument("track: the right rail is not modelled (track.width: half models the left rail)");
+  }
+  return seat;
+}
+
+double TrackModel::railSeatY(Rail rail) const {
+  if (rails_ == 1) {
+    seatIndex(rail);  // refuses the right rail
+    return 0.0;
+  }
+  return rail == Rail::Left ? params_.rail_seat_offset_m : -params_.rail_seat_offset_m;
+}
 
 void TrackModel::build() {
   const TrackParams& p = params_;
   const double L = p.layout.spacing_m;
   const int ne = p.elements_per_bay;
+  const size_t seats = static_cast<size_t>(rails_);
   sleeper_x_ = p.layout.sleeperPositions();
   const long n_s = static_cast<long>(sleeper_x_.size());
   if (n_s < 2) throw std::invalid_argument("track: fewer than 2 sleepers in the extent");
@@ -38,18 +57,24 @@ void TrackModel::build() {
   for (long j = 0; j < n_nodes; ++j) node_x_[j] = sleeper_x_[0] + static_cast<double>(j) * element_length_;
   node_x_.back() = sleeper_x_.back();
 
-  // DOF numbering node by node (banded): w, theta [, sleeper, base].
-  rail_dof_.assign(n_nodes, -1);
+  // DOF numbering node by node (banded): w, theta of each rail [, sleeper heave, roll, base of each seat].
+  rail_dof_.assign(seats, std::vector<Eigen::Index>(n_nodes, -1));
+  base_dof_.assign(seats, std::vector<Eigen::Index>(n_s, -1));
   sleeper_dof_.assign(n_s, -1);
-  base_dof_.assign(n_s, -1);
+  roll_dof_.assign(n_s, -1);
   Eigen::Index idx = 0;
   for (long j = 0; j < n_nodes; ++j) {
-    rail_dof_[j] = idx;
-    idx += 2;
+    for (size_t r = 0; r < seats; ++r) {
+      rail_dof_[r][j] = idx;
+      idx += 2;
+    }
     if (j % ne == 0) {
       const long i = j / ne;
       sleeper_dof_[i] = idx++;
-      if (p.foundation != FoundationModel::Rigid) base_dof_[i] = idx++;
+      if (rails_ == 2) roll_dof_[i] = idx++;
+      for (size_t r = 0; r < seats; ++r) {
+        if (p.foundation != FoundationModel::Rigid) base_dof_[r][i] = idx++;
+      }
     }
   }
   n_dof_ = idx;
@@ -78,44 +103,67 @@ void TrackModel::build() {
                            {-13 * h, -3 * h * h, -22 * h, 4 * h * h}};
   const double kf = EI / (h * h * h);
   const double mf = m * h / 420.0;
-  for (long e = 0; e + 1 < n_nodes; ++e) {
-    const Eigen::Index d[4] = {rail_dof_[e], rail_dof_[e] + 1, rail_dof_[e + 1], rail_dof_[e + 1] + 1};
-    const double eta_e = eta(0.5 * (node_x_[e] + node_x_[e + 1]));
-    for (int a = 0; a < 4; ++a) {
-      for (int b = 0; b < 4; ++b) {
-        tk.emplace_back(d[a], d[b], kf * ke[a][b]);
-        tm.emplace_back(d[a], d[b], mf * me[a][b]);
-        if (eta_e > 0.0) tc.emplace_back(d[a], d[b], eta_e * mf * me[a][b]);
+  for (size_t r = 0; r < seats; ++r) {
+    for (long e = 0; e + 1 < n_nodes; ++e) {
+      const Eigen::Index d[4] = {rail_dof_[r][e], rail_dof_[r][e] + 1, rail_dof_[r][e + 1], rail_dof_[r][e + 1] + 1};
+      const double eta_e = eta(0.5 * (node_x_[e] + node_x_[e + 1]));
+      for (int a = 0; a < 4; ++a) {
+        for (int b = 0; b < 4; ++b) {
+          tk.emplace_back(d[a], d[b], kf * ke[a][b]);
+          tm.emplace_back(d[a], d[b], mf * me[a][b]);
+          if (eta_e > 0.0) tc.emplace_back(d[a], d[b], eta_e * mf * me[a][b]);
+        }
       }
     }
   }
   for (long i = 0; i < n_s; ++i) {
-    const Eigen::Index w = rail_dof_[i * ne];
-    const Eigen::Index s = sleeper_dof_[i];
-    const Eigen::Index b = base_dof_[i];
+    const Eigen::Index s = sleeper_dof_[i], roll = roll_dof_[i];
     const double eta_s = eta(sleeper_x_[i]);
-    // railpad rail -> sleeper
-    addPair(tk, w, s, p.railpad_stiffness_n_m);
-    if (p.railpad_damping_n_s_m > 0.0) addPair(tc, w, s, p.railpad_damping_n_s_m);
-    // sleeper mass
-    tm.emplace_back(s, s, p.sleeper_mass_kg);
-    if (eta_s > 0.0) tc.emplace_back(s, s, eta_s * p.sleeper_mass_kg);
-    // ballast sleeper -> base (or ground)
-    addPair(tk, s, b, p.ballast_stiffness_n_m);
-    if (p.ballast_damping_n_s_m > 0.0) addPair(tc, s, b, p.ballast_damping_n_s_m);
-    if (p.foundation == FoundationModel::Clm) {
-      tm.emplace_back(b, b, p.clm.mass_kg);
-      if (eta_s > 0.0) tc.emplace_back(b, b, eta_s * p.clm.mass_kg);
-      tk.emplace_back(b, b, p.clm.stiffness_n_m);
-      tc.emplace_back(b, b, p.clm.damping_n_s_m);
-      if (i + 1 < n_s) {
-        addPair(tk, b, base_dof_[i + 1], p.clm.coupling_stiffness_n_m);
-        addPair(tc, b, base_dof_[i + 1], p.clm.coupling_damping_n_s_m);
+    // sleeper heave: the half track's half sleeper, or the whole sleeper; roll: its inertia
+    const double heave_mass = p.sleeper_mass_kg * static_cast<double>(seats);
+    tm.emplace_back(s, s, heave_mass);
+    if (eta_s > 0.0) tc.emplace_back(s, s, eta_s * heave_mass);
+    if (roll >= 0) {
+      tm.emplace_back(roll, roll, p.sleeper_roll_inertia_kg_m2);
+      if (eta_s > 0.0) tc.emplace_back(roll, roll, eta_s * p.sleeper_roll_inertia_kg_m2);
+    }
+    for (size_t r = 0; r < seats; ++r) {
+      // The seat at lateral y moves down by heave + y roll: a spring from a DOF x to the seat is
+      // the pair (x, heave) plus the lever terms of the roll.
+      const double y = railSeatY(r == 0 ? Rail::Left : Rail::Right);
+      const Eigen::Index w = rail_dof_[r][i * ne];
+      const Eigen::Index b = base_dof_[r][i];
+      auto seatSpring = [&](Triplets& t, Eigen::Index other, double value, double sign_other) {
+        // value (sign_other * u_other - u_seat)^2 / 2, u_seat = u_s + y u_roll
+        const Eigen::Index dofs[3] = {other, s, roll};
+        const double coef[3] = {sign_other, -1.0, -y};
+        for (int a = 0; a < 3; ++a) {
+          for (int c = 0; c < 3; ++c) {
+            if (dofs[a] < 0 || dofs[c] < 0 || coef[a] == 0.0 || coef[c] == 0.0) continue;
+            t.emplace_back(dofs[a], dofs[c], value * coef[a] * coef[c]);
+          }
+        }
+      };
+      // railpad rail -> seat
+      seatSpring(tk, w, p.railpad_stiffness_n_m, 1.0);
+      if (p.railpad_damping_n_s_m > 0.0) seatSpring(tc, w, p.railpad_damping_n_s_m, 1.0);
+      // ballast seat -> base (or ground)
+      seatSpring(tk, b, p.ballast_stiffness_n_m, 1.0);
+      if (p.ballast_damping_n_s_m > 0.0) seatSpring(tc, b, p.ballast_damping_n_s_m, 1.0);
+      if (p.foundation == FoundationModel::Clm) {
+        tm.emplace_back(b, b, p.clm.mass_kg);
+        if (eta_s > 0.0) tc.emplace_back(b, b, eta_s * p.clm.mass_kg);
+        tk.emplace_back(b, b, p.clm.stiffness_n_m);
+        tc.emplace_back(b, b, p.clm.damping_n_s_m);
+        if (i + 1 < n_s) {
+          addPair(tk, b, base_dof_[r][i + 1], p.clm.coupling_stiffness_n_m);
+          addPair(tc, b, base_dof_[r][i + 1], p.clm.coupling_damping_n_s_m);
+        }
+      } else if (p.foundation == FoundationModel::Winkler) {
+        // massless series node: Winkler spring and damper to ground
+        tk.emplace_back(b, b, p.winkler.stiffness_n_m);
+        tc.emplace_back(b, b, p.winkler.damping_n_s_m);
       }
-    } else if (p.foundation == FoundationModel::Winkler) {
-      // massless series node: Winkler spring and damper to ground
-      tk.emplace_back(b, b, p.winkler.stiffness_n_m);
-      tc.emplace_back(b, b, p.winkler.damping_n_s_m);
     }
   }
   M_.resize(n_dof_, n_dof_);
@@ -129,7 +177,7 @@ void TrackModel::build() {
   K_.makeCompressed();
 }
 
-RailPoint TrackModel::railPoint(double x_m) const {
+RailPoint TrackModel::railPoint(double x_m, Rail rail) const {
   const double x0 = node_x_.front(), x1 = node_x_.back();
   const double tol = 1e-9 * std::max(1.0, std::abs(x1 - x0));
   if (!(x_m >= x0 - tol && x_m <= x1 + tol)) {
@@ -144,7 +192,8 @@ RailPoint TrackModel::railPoint(double x_m) const {
   const double xi2 = xi * xi, xi3 = xi2 * xi;
   RailPoint p;
   p.x_m = x_m;
-  p.dofs = {rail_dof_[e], rail_dof_[e] + 1, rail_dof_[e + 1], rail_dof_[e + 1] + 1};
+  const std::vector<Eigen::Index>& dof = rail_dof_[seatIndex(rail)];
+  p.dofs = {dof[e], dof[e] + 1, dof[e + 1], dof[e + 1] + 1};
   p.weights = {1.0 - 3.0 * xi2 + 2.0 * xi3, h * (xi - 2.0 * xi2 + xi3), 3.0 * xi2 - 2.0 * xi3, h * (xi3 - xi2)};
   p.slope_weights = {(6.0 * xi2 - 6.0 * xi) / h, 1.0 - 4.0 * xi + 3.0 * xi2, (6.0 * xi - 6.0 * xi2) / h,
                      3.0 * xi2 - 2.0 * xi};
@@ -153,26 +202,32 @@ RailPoint TrackModel::railPoint(double x_m) const {
 
 Eigen::VectorXd TrackModel::loadVector(const std::vector<PointLoad>& loads) const {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(n_dof_);
-  for (const auto& l : loads) railPoint(l.x_m).addLoad(l.force_n, f);
+  for (const auto& l : loads) railPoint(l.x_m, l.rail).addLoad(l.force_n, f);
   return f;
 }
 
-void TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
-                                          std::vector<double>& out) const {
+void TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::vector<double>& out,
+                                          Rail rail) const {
   const size_t n = sleeper_x_.size();
   out.resize(n);
   const double kb = params_.ballast_stiffness_n_m, db = params_.ballast_damping_n_s_m;
+  const std::vector<Eigen::Index>& base = base_dof_[seatIndex(rail)];
+  const double y = railSeatY(rail);
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Index s = sleeper_dof_[i], b = base_dof_[i];
-    const double du = u[s] - (b >= 0 ? u[b] : 0.0);
-    const double dv = v[s] - (b >= 0 ? v[b] : 0.0);
+    const Eigen::Index s = sleeper_dof_[i], roll = roll_dof_[i], b = base[i];
+    // the seat moves by heave + y roll
+    const double seat_u = roll >= 0 ? u[s] + y * u[roll] : u[s];
+    const double seat_v = roll >= 0 ? v[s] + y * v[roll] : v[s];
+    const double du = seat_u - (b >= 0 ? u[b] : 0.0);
+    const double dv = seat_v - (b >= 0 ? v[b] : 0.0);
     out[i] = kb * du + db * dv;
   }
 }
 
-std::vector<double> TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
+std::vector<double> TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+                                                         Rail rail) const {
   std::vector<double> out;
-  ballastForceOnFoundation(u, v, out);
+  ballastForceOnFoundation(u, v, out, rail);
   return out;
 }
 
@@ -187,10 +242,31 @@ std::complex<double> TrackModel::receptance(double x_m, double frequency_hz) con
 }
 
 std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::vector<double>& frequencies_hz) const {
+  return receptance(x_m, frequencies_hz, RailLoading::Left);
+}
+
+std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::vector<double>& frequencies_hz,
+                                                         RailLoading loading) const {
   using Cplx = std::complex<double>;
-  const RailPoint rp = railPoint(x_m);
+  if (rails_ == 1 && loading != RailLoading::Left && loading != RailLoading::Both) {
+    throw std::invalid_argument("track: a half track (track.width: half) has one rail: load it alone (left or both)");
+  }
+  // the load vector, and the observed rail (its interpolation weights)
+  Eigen::VectorXcd load = Eigen::VectorXcd::Zero(n_dof_);
+  auto addUnit = [&](Rail rail, double force) {
+    const RailPoint rp = railPoint(x_m, rail);
+    for (int k = 0; k < 4; ++k) load[rp.dofs[k]] += force * rp.weights[k];
+  };
+  const bool both_rails = rails_ == 2 && (loading == RailLoading::Both || loading == RailLoading::AntiPhase);
+  if (loading == RailLoading::Right) {
+    addUnit(Rail::Right, 1.0);
+  } else {
+    addUnit(Rail::Left, 1.0);
+    if (both_rails) addUnit(Rail::Right, loading == RailLoading::AntiPhase ? -1.0 : 1.0);
+  }
+  const RailPoint observed = railPoint(x_m, loading == RailLoading::Right ? Rail::Right : Rail::Left);
   Eigen::VectorXcd r = Eigen::VectorXcd::Zero(n_dof_);
-  for (int k = 0; k < 4; ++k) r[rp.dofs[k]] += rp.weights[k];
+  for (int k = 0; k < 4; ++k) r[observed.dofs[k]] += observed.weights[k];
   const Eigen::SparseMatrix<Cplx> Kc = K_.cast<Cplx>(), Mc = M_.cast<Cplx>(), Cc = C_.cast<Cplx>();
   Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
   std::vector<Cplx> out;
@@ -206,7 +282,7 @@ std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::
     }
     lu.factorize(A);
     if (lu.info() != Eigen::Success) throw std::runtime_error("track: receptance factorisation failed");
-    const Eigen::VectorXcd x = lu.solve(r);
+    const Eigen::VectorXcd x = lu.solve(load);
     out.push_back(r.transpose() * x);
   }
   return out;

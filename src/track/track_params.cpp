@@ -26,7 +26,20 @@ TrackParams loadTrackParams(const ConfigNode& root) {
   p.rail_mass_per_length_kg_m = rail.number("mass_per_length_kg_m", Range::open(1.0, 1000.0));
   p.elements_per_bay = static_cast<int>(rail.integer("elements_per_bay", 1, 64));
 
-  p.sleeper_mass_kg = track.section("sleeper").number("mass_kg", Range::open(0.0, 1.0e4));
+  const ConfigNode sleeper = track.section("sleeper");
+  p.sleeper_mass_kg = sleeper.number("mass_kg", Range::open(0.0, 1.0e4));
+  p.width = track.choice("width", {"half", "full"}) == "full" ? TrackWidth::Full : TrackWidth::Half;
+  // Read whatever the width, so that a bad value is refused before a switch to full.
+  p.sleeper_roll_inertia_kg_m2 = sleeper.number("roll_inertia_kg_m2", Range::open(0.0, 1.0e5));
+  if (p.width == TrackWidth::Full) {
+    if (!root.has("site")) track.fail("width", "full needs the rail gauge (site.rail_gauge_m): no site section");
+    // the rail seats under the rails' centre lines
+    p.rail_seat_offset_m = loadSiteLayout(root).exterior_rail_y_m;
+    if (p.rail_seat_offset_m >= 0.5 * p.layout.length_m) {
+      sleeper.fail("length_m", "the rail seats (+-" + std::to_string(p.rail_seat_offset_m) +
+                                   " m, site.rail_gauge_m / 2) must lie on the sleeper");
+    }
+  }
 
   const ConfigNode pad = track.section("railpad");
   p.railpad_stiffness_n_m = pad.number("stiffness_n_m", Range::open(0.0, 1.0e12));

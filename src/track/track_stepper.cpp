@@ -4,7 +4,20 @@
 
 namespace railvib::track {
 
-TrackStepper::TrackStepper(const TrackParams& params, double dt_s) : model_(params), newmark_(model_, dt_s) {
+namespace {
+// The chain's track: one rail whose ballast forces the soil receives twice.
+const TrackParams& halfTrack(const TrackParams& params, const char* who) {
+  if (params.width != TrackWidth::Half) {
+    throw ConfigError(std::string("track.width = full: ") + who +
+                      " takes the half track only so far (the full width is in the track model and railvib_tool "
+                      "receptance --load); set track.width: half");
+  }
+  return params;
+}
+}  // namespace
+
+TrackStepper::TrackStepper(const TrackParams& params, double dt_s)
+    : model_(halfTrack(params, "the track's time stepping (ballast loads for the soil)")), newmark_(model_, dt_s) {
   updateOutputs();
 }
 

@@ -72,8 +72,15 @@ struct FlexibleRail::Impl {
   std::vector<track::RailPoint> points;
 };
 
-FlexibleRail::FlexibleRail(const track::TrackParams& params, double dt_s)
-    : impl_(std::make_unique<Impl>(params, dt_s)) {}
+FlexibleRail::FlexibleRail(const track::TrackParams& params, double dt_s) {
+  // The half vehicle runs on one rail.
+  if (params.width != track::TrackWidth::Half) {
+    throw ConfigError(
+        "track.width = full: the vehicle/track passage takes the half track only so far (the full width is in the "
+        "track model and railvib_tool receptance --load); set track.width: half");
+  }
+  impl_ = std::make_unique<Impl>(params, dt_s);
+}
 FlexibleRail::~FlexibleRail() = default;
 
 Eigen::MatrixXd FlexibleRail::staticCompliance(const std::vector<double>& x) {

@@ -60,6 +60,21 @@ class Cases:
         s = self.run("receptance", "--config", CI, "--fmin", 10, "--fmax", 300, "--df", 2, "--csv", path)
         check(s["static_receptance_m_n"] > 0 and s["peaks"], s)
         check(len(rows(path)) == s["frequencies"], "one CSV row per frequency")
+        # Full width: both rails in phase are the half track; one rail alone rolls the sleeper, so its
+        # rail/ballast resonance moves (static: the same, the seats carry their own rail).
+        both = self.run("receptance", "--config", CI, "--fmin", 10, "--fmax", 300, "--df", 2, "--csv", path,
+                        "--set", "track.width=full", "--load", "both")
+        left = self.run("receptance", "--config", CI, "--fmin", 10, "--fmax", 300, "--df", 2, "--csv", path,
+                        "--set", "track.width=full", "--load", "left")
+        check(abs(both["static_receptance_m_n"] / s["static_receptance_m_n"] - 1) < 1e-9, (both, s))
+        check(len(both["peaks"]) == len(s["peaks"]) and
+              all(abs(a["frequency_hz"] - b["frequency_hz"]) < 1e-6 for a, b in zip(both["peaks"], s["peaks"])),
+              (both, s))
+        check(abs(left["static_receptance_m_n"] / s["static_receptance_m_n"] - 1) < 1e-9, (left, s))
+        check(left["width"] == "full" and left["load"] == "left", left)
+        out = subprocess.run([self.tool, "receptance", "--config", CI, "--csv", path, "--load", "anti"],
+                             capture_output=True, text=True)
+        check(out.returncode != 0 and "track.width=full" in out.stderr, out.stderr)
 
     def moving_load(self):
         path = WORK / "moving_load.csv"

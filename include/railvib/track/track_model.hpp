@@ -1,4 +1,4 @@
-// railvib/track: flexible track (one rail = half track) on discrete supports.
+// railvib/track: flexible track (one rail = half track, or both rails: track.width) on discrete supports.
 //
 // Rail: Euler-Bernoulli beam, Hermite cubic elements (w, theta per node),
 // `elements_per_bay` elements between sleepers. Under each sleeper node:
@@ -26,6 +26,10 @@
 // soil receives both rails: 2 f_i. The track's own dead weight is not
 // included (linear model, loads from the vehicle only).
 //
+// Full width (TrackWidth::Full): both rails, each sleeper a rigid body with heave and roll (the seat
+// at lateral y moves down by heave + y roll), railpad, ballast and foundation chain under each rail
+// seat; the half track is its symmetric special case (docs/track.md, "Full width").
+//
 // Track ends: the rail is free at the first/last sleeper; over
 // `ends.absorbing_length_m` at each end a mass-proportional damping layer
 // C_abs = eta(x) M (rail consistent mass, sleeper and foundation masses) with
@@ -49,6 +53,18 @@ namespace railvib::track {
 enum class FoundationModel { Clm, Winkler, Rigid };
 
 std::string foundationName(FoundationModel model);
+
+/// How much of the track is modelled (track.width): half = one rail on half sleepers (the
+/// symmetric special case); full = both rails on whole sleepers with heave and roll.
+enum class TrackWidth { Half, Full };
+
+/// The rails of a full-width track, looking in the direction of travel (+x): left at y = +a (the
+/// side of the building), right at y = -a, a = rail_gauge_m / 2.
+enum class Rail { Left = 0, Right = 1 };
+
+/// Which rails a harmonic or static load acts on (receptance --load): one rail, both in phase, or
+/// both in anti-phase (left down, right up).
+enum class RailLoading { Left, Right, Both, AntiPhase };
 
 struct ClmParams {
   double mass_kg = 2502.0;
@@ -78,13 +94,19 @@ struct TrackParams {
   int elements_per_bay = 4;
   /// Sleepers (at x = offset + k * spacing inside the extent [x_min, x_max]) and their footprint.
   TrackLayout layout;
+  /// Sleeper mass per rail seat: the half track's sleeper; a full-width sleeper weighs twice this.
   double sleeper_mass_kg = 45.0;
+  TrackWidth width = TrackWidth::Half;
+  /// Full width: the whole sleeper's roll inertia about the track axis (kg m^2) and the rail seats'
+  /// lateral distance from the track axis (m, half the gauge).
+  double sleeper_roll_inertia_kg_m2 = 50.7;
+  double rail_seat_offset_m = 0.7175;
   // railpad, ballast (per rail seat)
   double railpad_stiffness_n_m = 90.0e6;
   double railpad_damping_n_s_m = 30.0e3;
   double ballast_stiffness_n_m = 32.0e6;
   double ballast_damping_n_s_m = 52.0e3;
-  // foundation
+  // foundation (per rail seat: a full-width track has one chain under each rail)
   FoundationModel foundation = FoundationModel::Clm;
   ClmParams clm;
   WinklerParams winkler;
@@ -123,10 +145,11 @@ struct RailPoint {
   }
 };
 
-/// A vertical point load on the rail (N, positive downward).
+/// A vertical point load on a rail (N, positive downward); the half track has the left rail only.
 struct PointLoad {
   double x_m = 0.0;
   double force_n = 0.0;
+  Rail rail = Rail::Left;
 };
 
 /// Assembled matrices of one rail on its supports.
@@ -150,23 +173,34 @@ class TrackModel {
   double interiorStart() const { return railStart() + params_.ends.absorbing_length_m; }
   double interiorEnd() const { return railEnd() - params_.ends.absorbing_length_m; }
 
-  /// DOF indices: rail deflection / rotation of node j, sleeper i, base of sleeper i
+  /// Rails modelled: 1 (half track, the left rail) or 2 (full width).
+  int railCount() const { return rails_; }
+  /// Lateral position of a rail's seat on the sleeper (m, frame track; 0 for the half track).
+  double railSeatY(Rail rail) const;
+
+  /// DOF indices: rail deflection / rotation of node j, sleeper i's heave (and, full width, roll:
+  /// the seat at lateral y moves down by heave + y roll), the base under each rail seat of sleeper i
   /// (foundation mass or Winkler massless node; -1 for the rigid model).
-  Eigen::Index railW(int node) const { return rail_dof_[node]; }
-  Eigen::Index railTheta(int node) const { return rail_dof_[node] + 1; }
+  Eigen::Index railW(int node, Rail rail = Rail::Left) const { return rail_dof_[seatIndex(rail)][node]; }
+  Eigen::Index railTheta(int node, Rail rail = Rail::Left) const { return railW(node, rail) + 1; }
   Eigen::Index sleeperDof(int sleeper) const { return sleeper_dof_[sleeper]; }
-  Eigen::Index baseDof(int sleeper) const { return base_dof_[sleeper]; }
+  Eigen::Index sleeperRollDof(int sleeper) const { return roll_dof_[sleeper]; }
+  Eigen::Index baseDof(int sleeper, Rail rail = Rail::Left) const { return base_dof_[seatIndex(rail)][sleeper]; }
   /// Rail node index of sleeper i.
   int sleeperNode(int sleeper) const { return sleeper * params_.elements_per_bay; }
 
-  /// Rail interpolation at x (throws std::out_of_range outside the rail).
-  RailPoint railPoint(double x_m) const;
+  /// Rail interpolation at x (throws std::out_of_range outside the rail, std::invalid_argument for
+  /// the right rail of a half track).
+  RailPoint railPoint(double x_m, Rail rail = Rail::Left) const;
   /// Consistent load vector of point loads (size dofCount()).
   Eigen::VectorXd loadVector(const std::vector<PointLoad>& loads) const;
 
-  /// Ballast force on the foundation per sleeper (N, positive downward), half track.
-  void ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::vector<double>& out) const;
-  std::vector<double> ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
+  /// Ballast force on the foundation per sleeper (N, positive downward) under one rail seat (the
+  /// half track's only seat by default).
+  void ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::vector<double>& out,
+                                Rail rail = Rail::Left) const;
+  std::vector<double> ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+                                               Rail rail = Rail::Left) const;
 
   /// Static deflection K u = f under point loads.
   Eigen::VectorXd staticDeflection(const std::vector<PointLoad>& loads) const;
@@ -175,6 +209,11 @@ class TrackModel {
   /// load F e^{i w t}; (K - w^2 M + i w C) X = r. One sparse LU per frequency.
   std::complex<double> receptance(double x_m, double frequency_hz) const;
   std::vector<std::complex<double>> receptance(double x_m, const std::vector<double>& frequencies_hz) const;
+  /// Full width: unit harmonic forces at x on the rails `loading` names (Both: 1 N on each rail in
+  /// phase; AntiPhase: +1 N left, -1 N right); the deflection of the left rail at x, or of the right
+  /// rail for RailLoading::Right (m per N on that rail). A half track takes Left or Both (the same).
+  std::vector<std::complex<double>> receptance(double x_m, const std::vector<double>& frequencies_hz,
+                                               RailLoading loading) const;
 
   /// Strain energy 1/2 u^T K u and kinetic energy 1/2 v^T M v (J).
   double strainEnergy(const Eigen::VectorXd& u) const;
@@ -186,11 +225,15 @@ class TrackModel {
  private:
   void build();
 
+  size_t seatIndex(Rail rail) const;
+
   TrackParams params_;
+  int rails_ = 1;
   Eigen::Index n_dof_ = 0;
   std::vector<double> node_x_;
   std::vector<double> sleeper_x_;
-  std::vector<Eigen::Index> rail_dof_, sleeper_dof_, base_dof_;
+  std::vector<Eigen::Index> sleeper_dof_, roll_dof_;
+  std::vector<std::vector<Eigen::Index>> rail_dof_, base_dof_;  // [seat][node or sleeper]
   double element_length_ = 0.0;
   Eigen::SparseMatrix<double> M_, C_, K_;
 };
