@@ -14,6 +14,7 @@
 #include "railvib/common/config.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/track/track_newmark.hpp"
+#include "railvib/track/track_stepper.hpp"
 #include "track_test_util.hpp"
 
 namespace railvib::track {
@@ -165,6 +166,13 @@ TEST(FullWidthTrack, BadWidthsAndRailsAreRefused) {
     ADD_FAILURE() << "full width without a site accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("site.rail_gauge_m"), std::string::npos) << e.what();
+  }
+  // the chain's track stepping (ballast loads for the soil) takes the half track only so far
+  try {
+    TrackStepper stepper(scenarioTrack({"track.width=full"}), 1e-4);
+    ADD_FAILURE() << "full width accepted by the track stepper";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("track.width = full"), std::string::npos) << e.what();
   }
   const TrackModel half(scenarioTrack({}));
   EXPECT_THROW(half.railPoint(0.0, Rail::Right), std::invalid_argument);
