@@ -133,10 +133,10 @@ void TrackModel::build() {
       const double y = railSeatY(r == 0 ? Rail::Left : Rail::Right);
       const Eigen::Index w = rail_dof_[r][i * ne];
       const Eigen::Index b = base_dof_[r][i];
-      auto seatSpring = [&](Triplets& t, Eigen::Index other, double value, double sign_other) {
-        // value (sign_other * u_other - u_seat)^2 / 2, u_seat = u_s + y u_roll
+      auto seatSpring = [&](Triplets& t, Eigen::Index other, double value) {
+        // energy value (u_other - u_seat)^2 / 2, u_seat = u_s + y u_roll (other < 0: ground)
         const Eigen::Index dofs[3] = {other, s, roll};
-        const double coef[3] = {sign_other, -1.0, -y};
+        const double coef[3] = {1.0, -1.0, -y};
         for (int a = 0; a < 3; ++a) {
           for (int c = 0; c < 3; ++c) {
             if (dofs[a] < 0 || dofs[c] < 0 || coef[a] == 0.0 || coef[c] == 0.0) continue;
@@ -145,11 +145,11 @@ void TrackModel::build() {
         }
       };
       // railpad rail -> seat
-      seatSpring(tk, w, p.railpad_stiffness_n_m, 1.0);
-      if (p.railpad_damping_n_s_m > 0.0) seatSpring(tc, w, p.railpad_damping_n_s_m, 1.0);
+      seatSpring(tk, w, p.railpad_stiffness_n_m);
+      if (p.railpad_damping_n_s_m > 0.0) seatSpring(tc, w, p.railpad_damping_n_s_m);
       // ballast seat -> base (or ground)
-      seatSpring(tk, b, p.ballast_stiffness_n_m, 1.0);
-      if (p.ballast_damping_n_s_m > 0.0) seatSpring(tc, b, p.ballast_damping_n_s_m, 1.0);
+      seatSpring(tk, b, p.ballast_stiffness_n_m);
+      if (p.ballast_damping_n_s_m > 0.0) seatSpring(tc, b, p.ballast_damping_n_s_m);
       if (p.foundation == FoundationModel::Clm) {
         tm.emplace_back(b, b, p.clm.mass_kg);
         if (eta_s > 0.0) tc.emplace_back(b, b, eta_s * p.clm.mass_kg);
