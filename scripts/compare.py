@@ -341,8 +341,8 @@ def main(argv):
             couplings.append(report.recorded_coupling(bag)[0])
     if couplings == ["two_way", "one_way"]:
         die(f"{a.free_bag} ran two-way and {a.house_bag} one-way: give the free-field (one_way) run first")
-    pair = None not in couplings and couplings[0] != couplings[1]
-    if not (run_a.has_house() and run_b.has_house()) or (None not in couplings and not pair):
+    same_coupling = None not in couplings and couplings[0] == couplings[1]
+    if not (run_a.has_house() and run_b.has_house()) or same_coupling:
         # Not a one-way / two-way pair (no house, or the same coupling twice): the sensors side by side.
         outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(
             house_bag.stem + "_vs_" + pathlib.Path(a.free_bag).stem)

@@ -226,19 +226,23 @@ def config_value(config, path):
     return node
 
 
+def config_coupling(config):
+    """building.coupling (one_way | two_way) of a resolved configuration, None without a house."""
+    if config_value(config, "building") is None:
+        return None
+    value = config_value(config, "building.coupling")
+    # A house section without the key ran one_way (the loader's default).
+    return "one_way" if value is None else str(value)
+
+
 def recorded_coupling(bag):
     """building.coupling of the run (one_way | two_way) as the bag's scenario record has it, and why not
     when it is not known (no record, a bag from an older railvib, no house)."""
     record, why_not = scenario_record(bag)
     if record is None:
         return None, why_not
-    value = config_value(record.get("config"), "building.coupling")
-    if value is None:
-        # A house section without the key ran one_way (the loader's default).
-        if config_value(record.get("config"), "building") is None:
-            return None, "the recorded scenario has no house"
-        value = "one_way"
-    return str(value), None
+    coupling = config_coupling(record.get("config"))
+    return (coupling, None) if coupling else (None, "the recorded scenario has no house")
 
 
 def config_number(config, path):
@@ -736,7 +740,7 @@ def main(argv):
             if floors:
                 # With two-way coupling the soil at the response point is the foundation, not the free field:
                 # that comes from the one_way run (./railvib compare FREE.bag THIS.bag).
-                two_way = config_value(config, "building.coupling") == "two_way"
+                two_way = config_coupling(config) == "two_way"
                 soil_label = "soil there (two-way: the foundation)" if two_way else "free field (no house)"
                 vs, vf = v, vel  # the sensor and receiver records stacked above
                 ts = np.arange(len(vs)) * ss[0].sample_period_s
