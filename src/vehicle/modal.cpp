@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseLU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -27,16 +28,18 @@ DofLabels labels(const VehicleModel& model) {
   L.body.assign(static_cast<size_t>(model.fullDofCount()), "");
   for (const auto& b : model.bodies()) {
     const std::string bogie = model.bogieLabel(b);
-    const auto& wheels = model.wheels();
-    const bool motor = b.index < static_cast<int>(wheels.size()) && wheels[b.index].type == AxleType::Motor;
+    const auto& axles = model.params().wheels;  // a wheel part's index is its axle
+    const bool motor = b.index < static_cast<int>(axles.size()) && axles[b.index].type == AxleType::Motor;
     switch (b.kind) {
       case BodyKind::Carbody:
         L.category[b.z_dof] = "car-body bounce";
         L.category[b.theta_dof] = "car-body pitch";
+        if (b.phi_dof >= 0) L.category[b.phi_dof] = "car-body roll";
         break;
       case BodyKind::Bogie:
         L.category[b.z_dof] = bogie + " bounce";
         L.category[b.theta_dof] = bogie + " pitch";
+        if (b.phi_dof >= 0) L.category[b.phi_dof] = bogie + " roll";
         break;
       case BodyKind::WheelHub:
         L.category[b.z_dof] = std::string("axle hop (") + (motor ? "motor" : "trailer") + " wheels, " + bogie + ")";
@@ -48,8 +51,11 @@ DofLabels labels(const VehicleModel& model) {
         L.category[b.z_dof] = std::string("axle hop (") + (motor ? "motor" : "trailer") + " wheel, " + bogie + ")";
         break;
     }
+    // a point body on the centre line (a solid wheelset) rolls at full width
+    if (b.phi_dof >= 0 && L.category[b.phi_dof].empty()) L.category[b.phi_dof] = "wheelset roll (" + bogie + ")";
     L.body[b.z_dof] = b.name;
     if (b.theta_dof >= 0) L.body[b.theta_dof] = b.name;
+    if (b.phi_dof >= 0) L.body[b.phi_dof] = b.name;
   }
   return L;
 }
@@ -73,6 +79,16 @@ void nameMode(const VehicleModel& model, const DofLabels& L, const Eigen::Vector
   mode.name = c->first;
   mode.name_share = total > 0.0 ? c->second / total : 0.0;
   mode.body = best(by_body)->first;
+  if (model.fullWidth()) {
+    // the part of the shape that is the negative of its mirror image: (x - mirror(x)) / 2
+    double anti = 0.0;
+    for (Eigen::Index i = 0; i < full.size(); ++i) {
+      const std::complex<double> xa = 0.5 * (full[i] - model.mirrorSign()[i] * full[model.mirrorDof()[i]]);
+      anti += m[i] * std::norm(xa);
+    }
+    mode.antisymmetric_share = total > 0.0 ? anti / total : 0.0;
+    if (mode.antisymmetric_share > 0.5 && mode.name.find(" roll") == std::string::npos) mode.name += ", anti-phase";
+  }
 
   // Bogie bounce vs pitch from the kinematics: the point of zero vertical motion
   // w = z + (s - s_c) theta = 0, i.e. s - s_c = -z / theta (in the least-squares
@@ -115,6 +131,40 @@ void dampedModes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& C, const Eigen
   }
 }
 
+/// Full width: the chain is its own mirror image, so its motions split exactly into those that are
+/// their own mirror image (symmetric: the half vehicle's) and those that are its negative
+/// (antisymmetric: roll, the sides in anti-phase). Bases of the two (columns; coordinates as the
+/// mirror map's: x'[i] = sign[i] x[mirror[i]]), so that each is solved alone and a mode is one or
+/// the other even where a bounce and a roll mode share a frequency.
+std::array<Eigen::MatrixXd, 2> mirrorBases(const std::vector<Eigen::Index>& mirror, const Eigen::VectorXd& sign) {
+  const auto n = static_cast<Eigen::Index>(mirror.size());
+  std::vector<Eigen::VectorXd> sym, anti;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index j = mirror[i];
+    if (j < 0 || j >= n || mirror[j] != i || sign[j] != sign[i])
+      throw std::logic_error("modal analysis: the mirror map is not an involution");
+    if (j < i) continue;
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+    e[i] = 1.0;
+    if (j == i) {
+      (sign[i] > 0.0 ? sym : anti).push_back(e);
+      continue;
+    }
+    Eigen::VectorXd f = e;
+    e[j] = sign[i];   // x_i = x_j's image: symmetric
+    f[j] = -sign[i];  // antisymmetric
+    sym.push_back(e);
+    anti.push_back(f);
+  }
+  std::array<Eigen::MatrixXd, 2> out;
+  const std::vector<Eigen::VectorXd>* parts[2] = {&sym, &anti};
+  for (int b = 0; b < 2; ++b) {
+    out[b] = Eigen::MatrixXd(n, static_cast<Eigen::Index>(parts[b]->size()));
+    for (size_t c = 0; c < parts[b]->size(); ++c) out[b].col(static_cast<Eigen::Index>(c)) = (*parts[b])[c];
+  }
+  return out;
+}
+
 Mode modeFrom(std::complex<double> l) {
   Mode m;
   m.frequency_hz = std::abs(l) / (2.0 * M_PI);
@@ -126,6 +176,52 @@ std::vector<double> wheelPositions(const VehicleModel& model, double front) {
   std::vector<double> x;
   for (const auto& w : model.wheels()) x.push_back(front - w.offset_m);
   return x;
+}
+
+/// The track must have the vehicle's width (both follow track.width; a programme may not mix them).
+void checkWidths(const VehicleModel& model, const track::TrackParams& tp) {
+  if (model.fullWidth() != (tp.width == track::TrackWidth::Full)) {
+    throw std::invalid_argument(
+        "vehicle on a flexible track: the vehicle and the track must have the same width (track.width)");
+  }
+}
+
+/// Each wheel's contact point on its own rail.
+std::vector<track::RailPoint> contactPoints(const VehicleModel& model, const track::TrackModel& tm,
+                                            const std::vector<double>& x) {
+  std::vector<track::RailPoint> pts;
+  for (size_t i = 0; i < x.size(); ++i) pts.push_back(tm.railPoint(x[i], model.wheels()[i].rail));
+  return pts;
+}
+
+/// Static compliance of the track between the wheels' contact points (m/N): as FlexibleRail's, on
+/// each wheel's rail.
+Eigen::MatrixXd staticCompliance(const VehicleModel& model, const track::TrackModel& tm, const std::vector<double>& x) {
+  const auto n = static_cast<Eigen::Index>(x.size());
+  const std::vector<track::RailPoint> pts = contactPoints(model, tm, x);
+  Eigen::MatrixXd G(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::VectorXd u = tm.staticDeflection({track::PointLoad{x[j], 1.0, model.wheels()[j].rail}});
+    for (Eigen::Index i = 0; i < n; ++i) G(i, j) = pts[i].displacement(u);
+  }
+  return 0.5 * (G + G.transpose());
+}
+
+/// The load pattern of a wheel impedance: +1 on the wheel, +-1 on the other wheel of its axle.
+Eigen::VectorXcd wheelLoad(const VehicleModel& model, int wheel, AxleLoading loading) {
+  if (wheel < 0 || wheel >= model.wheelCount()) throw std::out_of_range("wheel index out of range");
+  Eigen::VectorXcd e = Eigen::VectorXcd::Zero(model.dofCount());
+  e[model.wheels()[wheel].contact_dof] = 1.0;
+  if (loading == AxleLoading::OneWheel) return e;
+  if (!model.fullWidth()) {
+    // the half vehicle is the in-phase case itself
+    if (loading == AxleLoading::AntiPhase)
+      throw std::invalid_argument("wheel impedance: the half vehicle has no anti-phase loading (track.width: full)");
+    return e;
+  }
+  const int other = model.partnerWheel(wheel);
+  e[model.wheels()[other].contact_dof] = loading == AxleLoading::InPhase ? 1.0 : -1.0;
+  return e;
 }
 
 Eigen::VectorXd hertzStiffness(const VehicleModel& model, const Eigen::VectorXd& compression) {
@@ -152,7 +248,17 @@ std::vector<Mode> vehicleModesRigid(const VehicleModel& model) {
   const Eigen::MatrixXd K = model.stiffness() + B * kv.asDiagonal() * B.transpose();
   std::vector<std::complex<double>> lambdas;
   std::vector<Eigen::VectorXcd> shapes;
-  dampedModes(model.mass(), model.damping(), K, lambdas, shapes);
+  if (!model.fullWidth()) {
+    dampedModes(model.mass(), model.damping(), K, lambdas, shapes);
+  } else {
+    for (const Eigen::MatrixXd& Q : mirrorBases(model.reducedMirrorDof(), model.reducedMirrorSign())) {
+      if (Q.cols() == 0) continue;
+      const size_t first = shapes.size();
+      dampedModes(Q.transpose() * model.mass() * Q, Q.transpose() * model.damping() * Q, Q.transpose() * K * Q, lambdas,
+                  shapes);
+      for (size_t k = first; k < shapes.size(); ++k) shapes[k] = Q.cast<std::complex<double>>() * shapes[k];
+    }
+  }
   const DofLabels L = labels(model);
   std::vector<Mode> modes;
   for (size_t k = 0; k < lambdas.size(); ++k) {
@@ -171,10 +277,11 @@ std::vector<Mode> vehicleModesFlexible(const VehicleModel& model, const track::T
   tp.layout.x_min_m = *std::min_element(x.begin(), x.end()) - opt.margin_m;
   tp.layout.x_max_m = *std::max_element(x.begin(), x.end()) + opt.margin_m;
   tp.ends.absorbing_length_m = 0.0;
-  FlexibleRail rail(tp, 1e-5);
-  const StaticState s = staticEquilibrium(model, rail, x, std::vector<double>(x.size(), 0.0));
-  const Eigen::VectorXd kH = hertzStiffness(model, s.compression_m);
+  checkWidths(model, tp);
   const track::TrackModel tm(tp);
+  const StaticState s = staticEquilibrium(model, staticCompliance(model, tm, x), std::vector<double>(x.size(), 0.0));
+  const Eigen::VectorXd kH = hertzStiffness(model, s.compression_m);
+  const std::vector<track::RailPoint> pts = contactPoints(model, tm, x);
 
   const Eigen::Index nv = model.dofCount(), nt = tm.dofCount(), n = nv + nt;
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n), C = M, K = M;
@@ -187,59 +294,97 @@ std::vector<Mode> vehicleModesFlexible(const VehicleModel& model, const track::T
   for (int i = 0; i < model.wheelCount(); ++i) {
     Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
     e[model.wheels()[i].contact_dof] = 1.0;
-    const track::RailPoint p = tm.railPoint(x[i]);
+    const track::RailPoint& p = pts[static_cast<size_t>(i)];
     for (int k = 0; k < 4; ++k) e[nv + p.dofs[k]] -= p.weights[k];
     K.noalias() += kH[i] * e * e.transpose();
   }
-  // Massless DOFs (Winkler junction nodes): exact static condensation of K,
-  // the same transformation applied to C (quasi-static junction).
-  std::vector<Eigen::Index> keep, drop;
-  for (Eigen::Index i = 0; i < n; ++i) (M.row(i).cwiseAbs().maxCoeff() > 0.0 ? keep : drop).push_back(i);
-  const auto na = static_cast<Eigen::Index>(keep.size()), nb = static_cast<Eigen::Index>(drop.size());
-  Eigen::MatrixXd Psi = Eigen::MatrixXd::Zero(n, na);
-  for (Eigen::Index a = 0; a < na; ++a) Psi(keep[a], a) = 1.0;
-  if (nb > 0) {
-    Eigen::MatrixXd Kbb(nb, nb), Kba(nb, na);
-    for (Eigen::Index i = 0; i < nb; ++i) {
-      for (Eigen::Index j = 0; j < nb; ++j) Kbb(i, j) = K(drop[i], drop[j]);
-      for (Eigen::Index j = 0; j < na; ++j) Kba(i, j) = K(drop[i], keep[j]);
-    }
-    const Eigen::MatrixXd X = -Kbb.ldlt().solve(Kba);
-    for (Eigen::Index i = 0; i < nb; ++i) Psi.row(drop[i]) = X.row(i);
-  }
-  const Eigen::MatrixXd Mr = Psi.transpose() * M * Psi, Kr = Psi.transpose() * K * Psi;
-  const Eigen::MatrixXd Cr = Psi.transpose() * C * Psi;
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(Kr, Mr);
-  if (ges.info() != Eigen::Success) throw std::runtime_error("flexible modal analysis: eigen solver failed");
-  const double wcut = 2.0 * M_PI * opt.basis_cutoff_hz;
-  Eigen::Index m = 0;
-  while (m < na && ges.eigenvalues()[m] < wcut * wcut) ++m;
-  const Eigen::MatrixXd Phi = Psi * ges.eigenvectors().leftCols(m);  // mass-normalised on Mr
-  std::vector<std::complex<double>> lambdas;
-  std::vector<Eigen::VectorXcd> shapes;
-  dampedModes(Eigen::MatrixXd::Identity(m, m), Phi.transpose() * C * Phi,
-              Eigen::MatrixXd(ges.eigenvalues().head(m).asDiagonal()), lambdas, shapes);
   const DofLabels L = labels(model);
   const Eigen::MatrixXcd Mc = M.cast<std::complex<double>>();
   std::vector<Mode> modes;
-  for (size_t k = 0; k < lambdas.size(); ++k) {
-    const Eigen::VectorXcd xfull = Phi.cast<std::complex<double>>() * shapes[k];
-    const double e_total = std::abs(xfull.dot(Mc * xfull));
-    const Eigen::VectorXcd xv = xfull.head(nv);
-    const double e_vehicle = std::abs(xv.dot(model.mass().cast<std::complex<double>>() * xv));
-    Mode md = modeFrom(lambdas[k]);
-    md.vehicle_energy_share = e_total > 0.0 ? e_vehicle / e_total : 0.0;
-    if (md.vehicle_energy_share < opt.min_vehicle_energy_share) continue;
-    nameMode(model, L, xv, md);
-    modes.push_back(md);
+  // The modes of (M, C, K) in the coordinates x = Q y (Q = identity: all of them).
+  auto solve = [&](const Eigen::MatrixXd* Q) {
+    const Eigen::MatrixXd Mq = Q ? Eigen::MatrixXd(Q->transpose() * M * *Q) : M;
+    const Eigen::MatrixXd Kq = Q ? Eigen::MatrixXd(Q->transpose() * K * *Q) : K;
+    const Eigen::Index nq = Mq.rows();
+    // Massless DOFs (Winkler junction nodes): exact static condensation of K,
+    // the same transformation applied to C (quasi-static junction).
+    std::vector<Eigen::Index> keep, drop;
+    for (Eigen::Index i = 0; i < nq; ++i) (Mq.row(i).cwiseAbs().maxCoeff() > 0.0 ? keep : drop).push_back(i);
+    const auto na = static_cast<Eigen::Index>(keep.size()), nb = static_cast<Eigen::Index>(drop.size());
+    Eigen::MatrixXd Psi = Eigen::MatrixXd::Zero(nq, na);
+    for (Eigen::Index a = 0; a < na; ++a) Psi(keep[a], a) = 1.0;
+    if (nb > 0) {
+      Eigen::MatrixXd Kbb(nb, nb), Kba(nb, na);
+      for (Eigen::Index i = 0; i < nb; ++i) {
+        for (Eigen::Index j = 0; j < nb; ++j) Kbb(i, j) = Kq(drop[i], drop[j]);
+        for (Eigen::Index j = 0; j < na; ++j) Kba(i, j) = Kq(drop[i], keep[j]);
+      }
+      const Eigen::MatrixXd X = -Kbb.ldlt().solve(Kba);
+      for (Eigen::Index i = 0; i < nb; ++i) Psi.row(drop[i]) = X.row(i);
+    }
+    if (Q) Psi = *Q * Psi;  // back to the coupled system's coordinates
+    const Eigen::MatrixXd Mr = Psi.transpose() * M * Psi, Kr = Psi.transpose() * K * Psi;
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(Kr, Mr);
+    if (ges.info() != Eigen::Success) throw std::runtime_error("flexible modal analysis: eigen solver failed");
+    const double wcut = 2.0 * M_PI * opt.basis_cutoff_hz;
+    Eigen::Index m = 0;
+    while (m < na && ges.eigenvalues()[m] < wcut * wcut) ++m;
+    const Eigen::MatrixXd Phi = Psi * ges.eigenvectors().leftCols(m);  // mass-normalised on Mr
+    std::vector<std::complex<double>> lambdas;
+    std::vector<Eigen::VectorXcd> shapes;
+    dampedModes(Eigen::MatrixXd::Identity(m, m), Phi.transpose() * C * Phi,
+                Eigen::MatrixXd(ges.eigenvalues().head(m).asDiagonal()), lambdas, shapes);
+    for (size_t k = 0; k < lambdas.size(); ++k) {
+      const Eigen::VectorXcd xfull = Phi.cast<std::complex<double>>() * shapes[k];
+      const double e_total = std::abs(xfull.dot(Mc * xfull));
+      const Eigen::VectorXcd xv = xfull.head(nv);
+      const double e_vehicle = std::abs(xv.dot(model.mass().cast<std::complex<double>>() * xv));
+      Mode md = modeFrom(lambdas[k]);
+      md.vehicle_energy_share = e_total > 0.0 ? e_vehicle / e_total : 0.0;
+      if (md.vehicle_energy_share < opt.min_vehicle_energy_share) continue;
+      nameMode(model, L, xv, md);
+      modes.push_back(md);
+    }
+  };
+  if (!model.fullWidth()) {
+    solve(nullptr);
+  } else {
+    // the coupled chain's mirror image: the vehicle's, and the track's (rails swap, sleepers roll back)
+    std::vector<Eigen::Index> mirror(static_cast<size_t>(n), -1);
+    Eigen::VectorXd sign = Eigen::VectorXd::Ones(n);
+    for (Eigen::Index i = 0; i < nv; ++i) {
+      mirror[i] = model.reducedMirrorDof()[i];
+      sign[i] = model.reducedMirrorSign()[i];
+    }
+    auto pair = [&](Eigen::Index a, Eigen::Index b, double sg) {
+      if (a < 0 || b < 0) return;
+      mirror[nv + a] = nv + b;
+      mirror[nv + b] = nv + a;
+      sign[nv + a] = sign[nv + b] = sg;
+    };
+    for (int j = 0; j < tm.railNodeCount(); ++j) {
+      pair(tm.railW(j, track::Rail::Left), tm.railW(j, track::Rail::Right), 1.0);
+      pair(tm.railTheta(j, track::Rail::Left), tm.railTheta(j, track::Rail::Right), 1.0);
+    }
+    for (int i = 0; i < tm.sleeperCount(); ++i) {
+      pair(tm.sleeperDof(i), tm.sleeperDof(i), 1.0);
+      pair(tm.sleeperRollDof(i), tm.sleeperRollDof(i), -1.0);
+      pair(tm.baseDof(i, track::Rail::Left), tm.baseDof(i, track::Rail::Right), 1.0);
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (mirror[i] < 0) throw std::logic_error("flexible modal analysis: a track DOF without mirror image");
+    }
+    for (const Eigen::MatrixXd& Q : mirrorBases(mirror, sign)) {
+      if (Q.cols() > 0) solve(&Q);
+    }
   }
   std::sort(modes.begin(), modes.end(), [](const Mode& a, const Mode& b) { return a.frequency_hz < b.frequency_hz; });
   return modes;
 }
 
 std::vector<std::complex<double>> wheelImpedanceRigid(const VehicleModel& model, int wheel,
-                                                      const std::vector<double>& freqs) {
-  if (wheel < 0 || wheel >= model.wheelCount()) throw std::out_of_range("wheel index out of range");
+                                                      const std::vector<double>& freqs, AxleLoading loading) {
+  const Eigen::VectorXcd load = wheelLoad(model, wheel, loading);
   const auto kH = linearisedHertzStiffness(model);
   const Eigen::MatrixXd& B = model.contactSelection();
   const Eigen::VectorXd kv = Eigen::Map<const Eigen::VectorXd>(kH.data(), static_cast<Eigen::Index>(kH.size()));
@@ -251,9 +396,7 @@ std::vector<std::complex<double>> wheelImpedanceRigid(const VehicleModel& model,
     const std::complex<double> iw(0.0, w);
     const Eigen::MatrixXcd D = K.cast<std::complex<double>>() - (w * w) * model.mass().cast<std::complex<double>>() +
                                iw * model.damping().cast<std::complex<double>>();
-    Eigen::VectorXcd e = Eigen::VectorXcd::Zero(D.rows());
-    e[c] = 1.0;
-    const Eigen::VectorXcd u = D.partialPivLu().solve(e);
+    const Eigen::VectorXcd u = D.partialPivLu().solve(load);
     Z.push_back(1.0 / (iw * u[c]));
   }
   return Z;
@@ -261,17 +404,17 @@ std::vector<std::complex<double>> wheelImpedanceRigid(const VehicleModel& model,
 
 std::vector<std::complex<double>> wheelImpedanceFlexible(const VehicleModel& model,
                                                          const track::TrackParams& track_params, int wheel,
-                                                         const std::vector<double>& freqs, double front) {
-  if (wheel < 0 || wheel >= model.wheelCount()) throw std::out_of_range("wheel index out of range");
+                                                         const std::vector<double>& freqs, double front,
+                                                         AxleLoading loading) {
+  const Eigen::VectorXcd load = wheelLoad(model, wheel, loading);
   using cd = std::complex<double>;
+  checkWidths(model, track_params);
   const auto x = wheelPositions(model, front);
-  FlexibleRail rail(track_params, 1e-5);
-  const StaticState s = staticEquilibrium(model, rail, x, std::vector<double>(x.size(), 0.0));
-  const Eigen::VectorXd kH = hertzStiffness(model, s.compression_m);
   const track::TrackModel tm(track_params);
+  const StaticState s = staticEquilibrium(model, staticCompliance(model, tm, x), std::vector<double>(x.size(), 0.0));
+  const Eigen::VectorXd kH = hertzStiffness(model, s.compression_m);
   const int nw = model.wheelCount();
-  std::vector<track::RailPoint> pts;
-  for (double xi : x) pts.push_back(tm.railPoint(xi));
+  const std::vector<track::RailPoint> pts = contactPoints(model, tm, x);
   const Eigen::SparseMatrix<cd> Mt = tm.mass().cast<cd>(), Ct = tm.damping().cast<cd>(), Kt = tm.stiffness().cast<cd>();
   Eigen::SparseLU<Eigen::SparseMatrix<cd>> lu;
   Eigen::SparseMatrix<cd> D = Kt + Mt + Ct;
@@ -296,9 +439,7 @@ std::vector<std::complex<double>> wheelImpedanceFlexible(const VehicleModel& mod
                                     .solve(Eigen::MatrixXcd(kH.cast<cd>().asDiagonal()));
     const Eigen::MatrixXcd Dv = model.stiffness().cast<cd>() - cd(w * w) * model.mass().cast<cd>() +
                                 iw * model.damping().cast<cd>() + B.cast<cd>() * Kc * B.transpose().cast<cd>();
-    Eigen::VectorXcd e = Eigen::VectorXcd::Zero(Dv.rows());
-    e[c] = 1.0;
-    const Eigen::VectorXcd u = Dv.partialPivLu().solve(e);
+    const Eigen::VectorXcd u = Dv.partialPivLu().solve(load);
     Z.push_back(1.0 / (iw * u[c]));
   }
   return Z;

@@ -127,14 +127,19 @@ std::unique_ptr<RailSupport> makeRailSupport(const PassageParams& params, const 
 // ------------------------------------------------------------------ statics
 StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, const std::vector<double>& x,
                               const std::vector<double>& z) {
+  return staticEquilibrium(model, rail.staticCompliance(x), z);
+}
+
+StaticState staticEquilibrium(const VehicleModel& model, const Eigen::MatrixXd& Gs, const std::vector<double>& z) {
   const Eigen::MatrixXd& K = model.stiffness();
   const Eigen::MatrixXd& B = model.contactSelection();
   const Eigen::VectorXd& fg = model.gravityLoad();
   const double C = model.params().hertz_constant_n_m1_5;
   const int nw = model.wheelCount();
-  const Eigen::MatrixXd Gs = rail.staticCompliance(x);
+  if (Gs.rows() != nw || Gs.cols() != nw || static_cast<int>(z.size()) != nw)
+    throw std::invalid_argument("static equilibrium: one rail compliance row and unevenness per wheel");
   const Eigen::VectorXd zv = Eigen::Map<const Eigen::VectorXd>(z.data(), nw);
-  const double W = model.weightPerRail();
+  const double W = model.weight();
   const double f_mean = W / nw;
   // initial guess: linearised Hertz springs at the mean wheel load
   const double d0 = std::pow(f_mean / C, 2.0 / 3.0);
@@ -182,6 +187,13 @@ void PassageBlock::clear() {
 VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unevenness, const PassageParams& params,
                                std::unique_ptr<RailSupport> rail, PassageOptions options)
     : model_(model), unevenness_(unevenness), params_(params), rail_(std::move(rail)), options_(options) {
+  // The passage takes the half vehicle on the half track so far (issue 17: the coupled run with
+  // both rails, one wheel per rail, is the next step).
+  if (model_.fullWidth()) {
+    throw ConfigError(
+        "track.width = full: the vehicle/track passage takes the half vehicle on the half track only so far (the "
+        "full-width vehicle is in the model, vehicle-modes and wheel-impedance); set track.width: half");
+  }
   nw_ = model_.wheelCount();
   const double dt = params_.time_step_s;
   // ---- accuracy of the time step (Newmark beta = 1/4 is unconditionally stable), from the

@@ -62,6 +62,16 @@ std::string extentText(const BodySpec& b) {
   return "extends over [" + fmt(b.front_m) + ", " + fmt(b.rear_m) + "] m";
 }
 
+/// Lateral position of a body, element or pin: 0 = the centre line, > 0 one side (mirrored).
+double lateralPosition(const ConfigNode& node) {
+  const double y = node.number("y_m", Range::nonNegative(), 0.0);
+  if (y > kMaxSideOffsetM) {
+    node.fail("y_m", "lies " + fmt(y) + " m from the centre line, beyond " + fmt(kMaxSideOffsetM) +
+                         " m: wider than rail vehicles are built (a slipped decimal point or unit?)");
+  }
+  return y;
+}
+
 int bodyRef(const ConfigNode& node, const std::string& key, const std::string& body_name, const VehicleParams& p) {
   const int b = p.bodyIndex(body_name);
   if (b < 0) {
@@ -80,9 +90,20 @@ void readBodies(const ConfigNode& v, VehicleParams& p) {
     s.name = name;
     s.kind = bodyKind(b);
     s.x_m = b.number("x_m", vehicleBodyPositionRange());
-    s.y_m = b.number("y_m", Range::closed(0.0, 5.0), 0.0);
+    s.y_m = lateralPosition(b);
     s.mass_kg = b.number("mass_kg", Range::positive());
-    s.roll_inertia_kg_m2 = b.number("roll_inertia_kg_m2", Range::nonNegative(), 0.0);
+    if (b.has("roll_inertia_kg_m2")) {
+      if (!s.onCentreLine()) {
+        b.fail("roll_inertia_kg_m2",
+               "a body of one side has no roll: its mass acts at its lateral position y_m (the full-width model "
+               "mirrors it to -y_m)");
+      }
+      s.roll_inertia_kg_m2 = b.number("roll_inertia_kg_m2", Range::positive());
+    } else if (p.fullWidth() && s.onCentreLine()) {
+      b.fail("roll_inertia_kg_m2",
+             "missing: the full-width vehicle (track.width: full) rolls, and a body on the centre line needs its "
+             "roll inertia about the longitudinal axis through its centre of mass");
+    }
     if (s.hasPitch()) {
       s.pitch_inertia_kg_m2 = b.number("pitch_inertia_kg_m2", Range::positive());
       const std::vector<double> ext = b.numbers("extent_m", Range::closed(-100.0, 200.0), 2, 2);
@@ -127,7 +148,7 @@ void readSuspensions(const ConfigNode& v, VehicleParams& p) {
     s.lower_body = bodyRef(e, "lower", e.text("lower"), p);
     if (s.upper_body == s.lower_body) e.fail("lower", "an element joins two different bodies");
     s.x_m = e.number("x_m", vehicleBodyPositionRange());
-    s.y_m = e.number("y_m", Range::closed(0.0, 5.0), 0.0);
+    s.y_m = lateralPosition(e);
     for (int b : {s.upper_body, s.lower_body}) {
       const BodySpec& body = p.bodies[static_cast<size_t>(b)];
       if (!onBody(body, s.x_m)) {
@@ -136,6 +157,10 @@ void readSuspensions(const ConfigNode& v, VehicleParams& p) {
       if (s.y_m == 0.0 && !body.onCentreLine()) {
         e.fail("y_m", "an element on the centre line (y = 0) cannot hold body '" + body.name +
                           "' of one side (y = " + fmt(body.y_m) + " m)");
+      }
+      if (!body.onCentreLine() && std::abs(s.y_m - body.y_m) > 1e-6) {
+        e.fail("y_m", "the element is attached beside body '" + body.name + "' (y = " + fmt(body.y_m) +
+                          " m): a body of one side has no roll, its elements act at its lateral position");
       }
     }
     p.suspensions.push_back(s);
@@ -154,15 +179,27 @@ void readJoints(const ConfigNode& v, VehicleParams& p) {
     s.name = j.text("name", names[0] + "/" + names[1]);
     if (s.body_a == s.body_b) j.fail("bodies", "a pin joins two different bodies");
     s.x_m = j.number("x_m", vehicleBodyPositionRange());
-    s.y_m = j.number("y_m", Range::closed(0.0, 5.0), 0.0);
+    s.y_m = lateralPosition(j);
+    if (p.fullWidth() && s.y_m != 0.0) {
+      j.fail("y_m",
+             "the full-width vehicle (track.width: full) takes pins on the centre line: a pin of one side and its "
+             "mirror image would close a chain of joints");
+    }
     for (int b : {s.body_a, s.body_b}) {
       const BodySpec& body = p.bodies[static_cast<size_t>(b)];
       if (!body.hasPitch()) j.fail("bodies", "a pin joins carbodies or bogies; '" + body.name + "' is a point body");
       if (!onBody(body, s.x_m))
         j.fail("x_m", "the pin lies outside body '" + body.name + "', which " + extentText(body));
+      if (p.fullWidth() && !body.onCentreLine()) {
+        j.fail("bodies", "the full-width vehicle (track.width: full) pins bodies on the centre line; '" + body.name +
+                             "' is a body of one side");
+      }
     }
     s.pitch_stiffness_n_m_rad = j.number("pitch_stiffness_n_m_rad", Range::nonNegative());
     s.pitch_damping_n_m_s_rad = j.number("pitch_damping_n_m_s_rad", Range::nonNegative());
+    // A vertical pin on the centre line leaves the relative roll free: full width only, optional.
+    s.roll_stiffness_n_m_rad = j.number("roll_stiffness_n_m_rad", Range::nonNegative(), 0.0);
+    s.roll_damping_n_m_s_rad = j.number("roll_damping_n_m_s_rad", Range::nonNegative(), 0.0);
     p.joints.push_back(s);
   }
 }
@@ -177,6 +214,12 @@ void readWheels(const ConfigNode& v, VehicleParams& p) {
     const BodySpec& body = p.bodies[static_cast<size_t>(s.body)];
     if (body.kind != BodyKind::Tread && body.kind != BodyKind::Wheel) {
       w.fail("body", "the contact is carried by a tread or a wheel, not by '" + body.name + "'");
+    }
+    // A wheel of one side stands on its rail (a centre-line wheelset touches both at +-rail_offset_m).
+    if (!body.onCentreLine() && std::abs(body.y_m - p.rail_offset_m) > kWheelOnRailToleranceM) {
+      v.section("bodies").section(body.name).fail(
+          "y_m", "carries wheel " + s.name + " but is not on its rail: the rails lie at +-" + fmt(p.rail_offset_m) +
+                     " m (site.rail_gauge_m / 2), within " + fmt(kWheelOnRailToleranceM * 1e3) + " mm");
     }
     for (const WheelSpec& other : p.wheels) {
       if (other.body == s.body) w.fail("body", "body '" + body.name + "' already carries wheel " + other.name);
@@ -253,6 +296,10 @@ VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name)
     p.body_share_per_rail = sel.section("half_vehicle").number("body_share_per_rail", Range{0.0, 1.0, true, false});
     p.gravity_m_s2 = sel.number("gravity_m_s2", Range::closed(9.0, 10.0), 9.81);
   }
+  // The vehicle has the track's width (one switch for the chain: a half vehicle on both rails, or a
+  // full one on one rail, has no meaning); the rails' lateral position is the site's gauge.
+  if (root.has("track")) p.width = track::loadTrackParams(root).width;
+  if (root.has("site")) p.rail_offset_m = loadSiteLayout(root).exterior_rail_y_m;
   const ConfigNode library = root.section("vehicles");
   if (!library.has(name)) {
     std::string known;

@@ -116,6 +116,10 @@ struct StaticState {
 };
 StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, const std::vector<double>& x_m,
                               const std::vector<double>& unevenness_m);
+/// The same on a rail given by its static compliance between the wheels' contact points (m/N; for
+/// the full-width vehicle the points of each wheel's own rail).
+StaticState staticEquilibrium(const VehicleModel& model, const Eigen::MatrixXd& rail_compliance_m_n,
+                              const std::vector<double>& unevenness_m);
 
 /// Per-sample outputs of a block; per-wheel arrays are sample-major: [k * wheels + i].
 struct PassageBlock {

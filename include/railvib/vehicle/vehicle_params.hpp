@@ -13,16 +13,20 @@
 //   wheels              the contact points: body, motor | trailer, radius
 // Every body and element lies on the vehicle's centre line (y = 0: it spans
 // both rails) or on one side (y > 0, listed once, its mirror image at -y: a
-// symmetric vehicle). The half-vehicle model runs on one rail (the track
-// model is one rail): the elements and bodies of that side count once, those
-// on the centre line with `vehicle.half_vehicle.body_share_per_rail` (0.5).
-// The soil receives both rails (2x the half track).
+// symmetric vehicle). The vehicle has the track's width (`track.width`, one
+// switch for the chain): the half vehicle runs on one rail, the elements and
+// bodies of that side count once, those on the centre line with
+// `vehicle.half_vehicle.body_share_per_rail` (0.5), and the soil receives both
+// rails (2x the half track); the full-width vehicle has both sides (the side
+// parts mirrored to -y, one wheel per rail per axle) and gives every
+// centre-line body a roll DOF (docs/vehicle.md, "Full width").
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "railvib/common/config.hpp"
+#include "railvib/track/track_model.hpp"
 
 namespace railvib::vehicle {
 
@@ -48,7 +52,8 @@ struct BodySpec {
   double mass_kg = 0.0;
   /// About the lateral axis through the centre of mass; carbodies and bogies only (kg m^2).
   double pitch_inertia_kg_m2 = 0.0;
-  /// About the longitudinal axis, for full-width models (kg m^2); not used by the half vehicle.
+  /// About the longitudinal axis through the centre of mass (kg m^2): centre-line bodies of the
+  /// full-width vehicle (required there); not used by the half vehicle; a body of one side has none.
   double roll_inertia_kg_m2 = 0.0;
   /// Longitudinal extent, offsets behind the front axle (m); a point body: [x_m, x_m].
   double front_m = 0.0;
@@ -70,6 +75,7 @@ struct SuspensionSpec {
 
 enum class JointType {
   VerticalPin,  ///< both bodies have the same vertical displacement at the pin; relative pitch restrained by a spring
+                ///< (full width: relative roll free but for an optional roll spring)
 };
 
 struct JointSpec {
@@ -81,6 +87,9 @@ struct JointSpec {
   double y_m = 0.0;
   double pitch_stiffness_n_m_rad = 0.0;
   double pitch_damping_n_m_s_rad = 0.0;
+  /// Full width: relative roll of the two bodies (a pin on the centre line leaves it free); optional, 0.
+  double roll_stiffness_n_m_rad = 0.0;
+  double roll_damping_n_m_s_rad = 0.0;
 };
 
 struct WheelSpec {
@@ -100,10 +109,17 @@ struct VehicleParams {
   /// Front to rear: wheel 0 is the front axle (x = 0).
   std::vector<WheelSpec> wheels;
   double hertz_constant_n_m1_5 = 1.0e11;
-  /// Share of a centre-line body or element carried by the modelled rail.
+  /// Half (one rail, the symmetric special case) or full width (both rails, roll): track.width.
+  track::TrackWidth width = track::TrackWidth::Half;
+  /// Lateral position of the rails (m): half the gauge (site.rail_gauge_m), where the track's rail
+  /// seats are; the contacts of a centre-line wheelset lie at +-this.
+  double rail_offset_m = 0.7175;
+  /// Half width: share of a centre-line body or element carried by the modelled rail.
   double body_share_per_rail = 0.5;
   double gravity_m_s2 = 9.81;
 
+  bool fullWidth() const { return width == track::TrackWidth::Full; }
+  /// Axle positions (wheels of the file); the full-width model has a wheel per rail on each.
   int axleCount() const { return static_cast<int>(wheels.size()); }
   /// Axle (wheel) positions behind the front axle (m), front to rear.
   std::vector<double> axleOffsets() const;
@@ -172,10 +188,18 @@ struct PassageParams {
   bool convected_track_start = false;
 };
 
+/// A body or element of one side lies at most this far from the centre line (m): beyond it a
+/// lateral position is a slip (7.175 for 0.7175), not a design (docs/vehicle.md, "Full width").
+constexpr double kMaxSideOffsetM = 1.7;
+/// A side body carrying a wheel stands on its rail: |y - rail_offset_m| within this (m).
+constexpr double kWheelOnRailToleranceM = 1.0e-3;
+
 /// Read and validate the scenario's vehicle: `vehicle` (which entry of `vehicles`, the half-vehicle
-/// share, gravity) and that entry. Refuses, with key path, value and file: unknown bodies, negative
-/// masses, elements or wheels outside their bodies, wheels out of order, bodies connected to no wheel,
-/// a mechanism (a motion no spring resists: docs/vehicle.md). Throws ConfigError.
+/// share, gravity), its width (the track's: track.width, rails at +-site.rail_gauge_m / 2) and that
+/// entry. Refuses, with key path, value and file: unknown bodies, negative masses, elements or wheels
+/// outside their bodies, wheels out of order or off their rail, lateral positions beyond
+/// kMaxSideOffsetM, bodies connected to no wheel, a full-width vehicle without the roll inertia of a
+/// centre-line body, a mechanism (a motion no spring resists: docs/vehicle.md). Throws ConfigError.
 VehicleParams loadVehicleParams(const ConfigNode& root);
 /// The same for the library entry `vehicles.<name>`, whatever `vehicle.name` says.
 VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name);
