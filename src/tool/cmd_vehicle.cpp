@@ -36,7 +36,7 @@ std::string trackChoice(const ArgParser& p) {
   return t;
 }
 
-json modesJson(const std::vector<Mode>& modes, bool flexible) {
+json modesJson(const std::vector<Mode>& modes, bool flexible, bool full_width) {
   json arr = json::array();
   for (const auto& m : modes) {
     json j = {{"name", m.name},
@@ -45,6 +45,7 @@ json modesJson(const std::vector<Mode>& modes, bool flexible) {
               {"damping_ratio", m.damping_ratio},
               {"name_energy_share", m.name_share}};
     if (flexible) j["vehicle_energy_share"] = m.vehicle_energy_share;
+    if (full_width) j["antisymmetric_energy_share"] = m.antisymmetric_share;
     if (std::isfinite(m.pivot_offset_m)) j["pivot_behind_bogie_centre_m"] = m.pivot_offset_m;
     arr.push_back(j);
   }
@@ -84,7 +85,8 @@ int vehicleModes(const std::vector<std::string>& args) {
               {"track", track},
               {"dof", model.dofCount()},
               {"wall_time_s", wall},
-              {"modes", modesJson(modes, track == "flexible")}};
+              {"modes", modesJson(modes, track == "flexible", model.fullWidth())}};
+  if (model.fullWidth()) out["width"] = "full";  // the half vehicle's output as it was
   if (track == "rigid") {
     out["linearised_hertz_stiffness_n_m"] = linearisedHertzStiffness(model);
   }
@@ -98,6 +100,11 @@ int wheelImpedance(const std::vector<std::string>& args) {
   addVehicleOption(p);
   p.option("wheel",
            "wheel (axle) index, front to rear (T2000: 0 leading bogie motor wheel, 2 middle bogie motor wheel)", "0");
+  p.option("rail", "track.width full: the wheel's rail, left | right", "left");
+  p.option("load",
+           "track.width full: one (the wheel alone) | both (both wheels of its axle in phase: the half vehicle's "
+           "case) | anti (in anti-phase)",
+           "one");
   p.option("track", "rigid | flexible", "rigid");
   p.option("csv", "output CSV (f_hz, |Z| N s/m, phase deg, Re, Im)");
   p.option("f-min", "lowest frequency (Hz)", "1");
@@ -109,17 +116,28 @@ int wheelImpedance(const std::vector<std::string>& args) {
   vehicleOverride(p, extra);
   const Config cfg = loadConfig(p, extra);
   const VehicleModel model(loadVehicleParams(cfg.root()));
-  const int wheel = static_cast<int>(p.getInt("wheel"));
-  if (wheel < 0 || wheel >= model.wheelCount())
-    throw ArgError("--wheel must be in 0.." + std::to_string(model.wheelCount() - 1));
+  const int axle = static_cast<int>(p.getInt("wheel"));
+  if (axle < 0 || axle >= model.axleCount())
+    throw ArgError("--wheel must be in 0.." + std::to_string(model.axleCount() - 1));
+  const std::string rail_name = p.get("rail"), load_name = p.get("load");
+  if (rail_name != "left" && rail_name != "right") throw ArgError("--rail must be left or right");
+  if (load_name != "one" && load_name != "both" && load_name != "anti")
+    throw ArgError("--load must be one, both or anti");
+  if (!model.fullWidth() && (rail_name != "left" || load_name != "one"))
+    throw ArgError("--rail and --load need the full-width vehicle (--set track.width=full)");
+  const int wheel = model.wheelIndex(axle, rail_name == "left" ? track::Rail::Left : track::Rail::Right);
+  const AxleLoading loading = load_name == "both"   ? AxleLoading::InPhase
+                              : load_name == "anti" ? AxleLoading::AntiPhase
+                                                    : AxleLoading::OneWheel;
   const double f0 = p.getDouble("f-min"), f1 = p.getDouble("f-max");
   const long n = p.getInt("points");
   if (!(f0 > 0.0 && f1 > f0 && n >= 2)) throw ArgError("need 0 < --f-min < --f-max and --points >= 2");
   std::vector<double> f(static_cast<size_t>(n));
   for (long k = 0; k < n; ++k) f[static_cast<size_t>(k)] = f0 * std::pow(f1 / f0, static_cast<double>(k) / (n - 1));
   const auto t0 = std::chrono::steady_clock::now();
-  const auto Z = track == "rigid" ? wheelImpedanceRigid(model, wheel, f)
-                                  : wheelImpedanceFlexible(model, track::loadTrackParams(cfg.root()), wheel, f);
+  const auto Z = track == "rigid"
+                     ? wheelImpedanceRigid(model, wheel, f, loading)
+                     : wheelImpedanceFlexible(model, track::loadTrackParams(cfg.root()), wheel, f, 0.0, loading);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   size_t imin = 0;
   for (size_t k = 0; k < Z.size(); ++k) {
@@ -132,15 +150,21 @@ int wheelImpedance(const std::vector<std::string>& args) {
     }
     csv.commit();
   }
-  printJson({{"vehicle", model.params().name},
-             {"wheel", wheel},
-             {"axle_type", model.wheels()[wheel].type == AxleType::Motor ? "motor" : "trailer"},
-             {"track", track},
-             {"points", n},
-             {"min_abs_z_n_s_m", std::abs(Z[imin])},
-             {"f_at_min_abs_z_hz", f[imin]},
-             {"csv", p.has("csv") ? p.get("csv") : ""},
-             {"wall_time_s", wall}});
+  json out = {{"vehicle", model.params().name},
+              {"wheel", axle},
+              {"axle_type", model.wheels()[wheel].type == AxleType::Motor ? "motor" : "trailer"},
+              {"track", track},
+              {"points", n},
+              {"min_abs_z_n_s_m", std::abs(Z[imin])},
+              {"f_at_min_abs_z_hz", f[imin]},
+              {"csv", p.has("csv") ? p.get("csv") : ""},
+              {"wall_time_s", wall}};
+  if (model.fullWidth()) {  // the half vehicle's output as it was
+    out["width"] = "full";
+    out["rail"] = rail_name;
+    out["load"] = load_name;
+  }
+  printJson(out);
   return 0;
 }
 

@@ -93,10 +93,20 @@ class Cases:
         s = self.run("vehicle-modes", "--config", CI)
         f = [m["f0_hz"] for m in s["modes"]]
         check(f and all(x > 0 for x in f) and f == sorted(f), f"modes: {f}")
+        # Full width (both rails, roll): the half vehicle's modes are its symmetric ones, and it rolls.
+        full = self.run("vehicle-modes", "--config", CI, "--set", "track.width=full")
+        check(full["width"] == "full" and "width" not in s, full.keys())
+        sym = [m["f0_hz"] for m in full["modes"] if m["antisymmetric_energy_share"] < 0.5]
+        check(len(sym) == len(f) and all(abs(a / b - 1) < 1e-9 for a, b in zip(sorted(sym), f)), (sym, f))
+        check(any(m["name"] == "car-body roll" for m in full["modes"]), [m["name"] for m in full["modes"]])
 
     def wheel_impedance(self):
         s = self.run("wheel-impedance", "--config", CI, "--points", 20, "--csv", WORK / "impedance.csv")
         check(s["min_abs_z_n_s_m"] > 0 and 1 <= s["f_at_min_abs_z_hz"] <= 200, s)
+        # Full width, both wheels of the axle in phase: the half vehicle's impedance per wheel.
+        full = self.run("wheel-impedance", "--config", CI, "--points", 20, "--set", "track.width=full",
+                        "--rail", "right", "--load", "both")
+        check(full["rail"] == "right" and abs(full["min_abs_z_n_s_m"] / s["min_abs_z_n_s_m"] - 1) < 1e-9, full)
 
     def passage(self):
         out = WORK / "passage"
