@@ -7,43 +7,9 @@
 #include <limits>
 #include <sstream>
 
+#include "railvib/soil/footprint.hpp"
+
 namespace railvib::soil {
-
-namespace {
-
-// Integral of the 1D hat function of node xi (support [xi - h_left, xi + h_right]) over [a, b].
-double hatIntegral(double xi, double h_left, double h_right, double a, double b) {
-  auto prim = [&](double x) {
-    if (x <= xi - h_left) return 0.0;
-    if (x <= xi) {
-      const double s = x - (xi - h_left);
-      return s * s / (2.0 * h_left);
-    }
-    if (x < xi + h_right) {
-      const double s = xi + h_right - x;
-      return 0.5 * h_left + 0.5 * h_right - s * s / (2.0 * h_right);
-    }
-    return 0.5 * h_left + 0.5 * h_right;
-  };
-  return prim(b) - prim(a);
-}
-
-// Weights of the nodes of a uniform 1D grid (n + 1 nodes from x0, step h) for a
-// uniform load on [a, b] (consistent nodal loads, sum 1 when [a, b] is inside).
-std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n, double a, double b) {
-  std::vector<std::pair<size_t, double>> w;
-  const long i0 = std::max<long>(0, static_cast<long>(std::floor((a - x0) / h)) - 1);
-  const long i1 = std::min<long>(static_cast<long>(n), static_cast<long>(std::ceil((b - x0) / h)) + 1);
-  for (long i = i0; i <= i1; ++i) {
-    const double xi = x0 + h * static_cast<double>(i);
-    const double hl = i == 0 ? 1e-300 : h, hr = i == static_cast<long>(n) ? 1e-300 : h;
-    const double v = hatIntegral(xi, hl, hr, a, b) / (b - a);
-    if (v > 0.0) w.emplace_back(static_cast<size_t>(i), v);
-  }
-  return w;
-}
-
-}  // namespace
 
 SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
                      const std::vector<RigidBodySpec>& bodies, std::shared_ptr<SoilComm> comm)
@@ -52,42 +18,28 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   solver_ = std::make_unique<Solver>(std::move(mesh), params_.solver, std::move(comm));
   for (const RigidBodySpec& b : bodies) solver_->attachRigidBody(b);
   const StructuredMesh& m = solver_->mesh();
-  // Sleeper footprints -> consistent nodal loads (downward = +d).
-  const double hl = 0.5 * params_.track.length_m, hw = 0.5 * params_.track.width_m;
-  // A boundary whose zone takes no loads (a PML: its fields are not physical) shrinks the loaded box by the zone.
-  const SoilBoundary& boundary = solver_->boundary();
-  const double zone = boundary.zoneTakesLoads() ? 0.0 : boundary.zoneThicknessM();
-  const AbsorbingFaces& faces = params_.solver.absorbing;
-  const double lx0 = m.x0 + (faces.x_min ? zone : 0.0), lx1 = m.xMax() - (faces.x_max ? zone : 0.0);
-  const double ly0 = m.y0 + (faces.y_min ? zone : 0.0), ly1 = m.yMax() - (faces.y_max ? zone : 0.0);
+  // Sleeper footprints -> consistent nodal loads (downward = +d); the loaded region leaves out a
+  // boundary zone that takes no loads (footprint.hpp).
+  const LoadableRegion region = loadableRegion(*solver_, params_.solver.absorbing);
+  const double zone = region.zone_m;
+  const double lx0 = region.x_min_m, lx1 = region.x_max_m;
   std::vector<size_t> outside;
   size_t in_zone = 0;
   for (size_t s = 0; s < sleeper_x_.size(); ++s) {
-    const double xa = sleeper_x_[s] - hw, xb = sleeper_x_[s] + hw;
-    const bool inside = xa >= m.x0 - 1e-9 && xb <= m.xMax() + 1e-9 && -hl >= m.y0 - 1e-9 && hl <= m.yMax() + 1e-9;
-    const bool loadable = xa >= lx0 - 1e-9 && xb <= lx1 + 1e-9 && -hl >= ly0 - 1e-9 && hl <= ly1 + 1e-9;
-    if (!loadable) {
-      if (inside) ++in_zone;
+    if (!region.holds(sleeper_x_[s], params_.track)) {
+      if (footprintInsideMesh(m, sleeper_x_[s], params_.track)) ++in_zone;
       outside.push_back(s);
       continue;
     }
-    ForceChannel ch;
-    const auto wx = lineWeights(m.x0, m.hx, m.nx, xa, xb);
-    const auto wy = lineWeights(m.y0, m.hy, m.ny, -hl, hl);
-    for (const auto& [i, a] : wx) {
-      for (const auto& [j, b] : wy) {
-        ch.nodes.push_back(m.node(i, j, 0));
-        ch.components.push_back(2);
-        ch.weights.push_back(a * b);
-      }
-    }
-    solver_->addForceChannel(std::move(ch));
+    solver_->addForceChannel(sleeperFootprint(m, sleeper_x_[s], params_.track));
   }
   if (!outside.empty() && params_.loads_outside_mesh == "error") {
     std::ostringstream why;
     why << outside.size() << " sleeper footprints (e.g. x = " << sleeper_x_[outside.front()]
         << " m) lie outside the soil mesh x [" << m.x0 << ", " << m.xMax() << "] m";
-    if (in_zone > 0) why << " or in the " << zone << " m " << boundaryMethodName(boundary.method()) << " zone";
+    if (in_zone > 0) {
+      why << " or in the " << zone << " m " << boundaryMethodName(solver_->boundary().method()) << " zone";
+    }
     why << "; widen soil.mesh or set soil.loads.outside_mesh: drop";
     throw ConfigError("soil.loads.outside_mesh: " + why.str());
   }
@@ -99,6 +51,7 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   for (size_t s : dropped_) {
     for (const ReceiverSpec& r : params_.receivers) {
       // Plan distance from the receiver to the footprint rectangle.
+      const double hl = 0.5 * params_.track.length_m, hw = 0.5 * params_.track.width_m;
       const double dx = std::max(0.0, std::abs(r.x_m - sleeper_x_[s]) - hw);
       const double dy = std::max(0.0, std::abs(r.y_m) - hl);
       const double distance_m = std::hypot(dx, dy);
