@@ -1,5 +1,8 @@
 #include "railvib/track/track_analysis.hpp"
 
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -71,6 +74,83 @@ double smearedStaticSupportStiffness(const TrackParams& p) {
   double flex = 1.0 / p.railpad_stiffness_n_m + 1.0 / p.ballast_stiffness_n_m;
   if (p.foundation == FoundationModel::Winkler) flex += 1.0 / p.winkler.stiffness_n_m;
   return 1.0 / flex / p.layout.spacing_m;
+}
+
+std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, double x_m,
+                                                     const std::vector<double>& frequencies_hz,
+                                                     const GroundCompliance& ground) {
+  using Cplx = std::complex<double>;
+  const TrackParams& p = model.params();
+  if (p.foundation != FoundationModel::Rigid || model.railCount() != 1) {
+    throw std::invalid_argument(
+        "track: a ground given in the frequency domain replaces the foundation of a half track built with the rigid "
+        "foundation (track.foundation.model: rigid, track.width: half)");
+  }
+  if (!ground) throw std::invalid_argument("track: no ground compliance given");
+  const Eigen::Index n = model.sleeperCount();
+  const RailPoint at = model.railPoint(x_m);
+  Eigen::VectorXcd load = Eigen::VectorXcd::Zero(model.dofCount());
+  for (int k = 0; k < 4; ++k) load[at.dofs[k]] += at.weights[k];
+  // The rigid model's K, M and C entries, to which each frequency adds its sleeper block.
+  struct Entry {
+    Eigen::Index row, col;
+    double k, m, c;
+  };
+  std::vector<Entry> entries;
+  auto collect = [&](const Eigen::SparseMatrix<double>& mat, double Entry::*field) {
+    for (int col = 0; col < mat.outerSize(); ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(mat, col); it; ++it) {
+        Entry e{it.row(), it.col(), 0.0, 0.0, 0.0};
+        e.*field = it.value();
+        entries.push_back(e);
+      }
+    }
+  };
+  collect(model.stiffness(), &Entry::k);
+  collect(model.mass(), &Entry::m);
+  collect(model.damping(), &Entry::c);
+  Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
+  bool analysed = false;
+  std::vector<Cplx> out;
+  out.reserve(frequencies_hz.size());
+  std::vector<Eigen::Triplet<Cplx>> t;
+  for (double f : frequencies_hz) {
+    const double w = 2.0 * M_PI * f;
+    const Eigen::MatrixXcd g = ground(f);
+    if (g.rows() != n || g.cols() != n || !g.allFinite()) {
+      std::ostringstream s;
+      s << "track: the ground compliance at " << f << " Hz is " << g.rows() << " x " << g.cols()
+        << (g.allFinite() ? "" : " with non-finite entries") << ", the track has " << n << " sleepers";
+      throw std::invalid_argument(s.str());
+    }
+    const Cplx kb(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m);
+    // Ballast on the ground: f_b = k_b* (I + k_b* G)^-1 u_s.
+    const Eigen::MatrixXcd ballast =
+        kb * (Eigen::MatrixXcd::Identity(n, n) + kb * g).partialPivLu().solve(Eigen::MatrixXcd::Identity(n, n));
+    t.clear();
+    t.reserve(entries.size() + static_cast<size_t>(n * (n + 1)));
+    for (const Entry& e : entries) t.emplace_back(e.row, e.col, Cplx(e.k - w * w * e.m, w * e.c));
+    // Every entry of the block, zeros too, so that the pattern analysed once holds at every frequency.
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Eigen::Index si = model.sleeperDof(static_cast<int>(i));
+      t.emplace_back(si, si, -kb);  // the rigid model's ballast to the fixed base
+      for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(si, model.sleeperDof(static_cast<int>(j)), ballast(i, j));
+    }
+    Eigen::SparseMatrix<Cplx> a(model.dofCount(), model.dofCount());
+    a.setFromTriplets(t.begin(), t.end());
+    a.makeCompressed();
+    if (!analysed) {
+      lu.analyzePattern(a);
+      analysed = true;
+    }
+    lu.factorize(a);
+    if (lu.info() != Eigen::Success) throw std::runtime_error("track: receptance on the ground: factorisation failed");
+    const Eigen::VectorXcd u = lu.solve(load);
+    Cplx r = 0.0;
+    for (int k = 0; k < 4; ++k) r += at.weights[k] * u[at.dofs[k]];
+    out.push_back(r);
+  }
+  return out;
 }
 
 void simulateMovingLoads(const TrackModel& model, const MovingLoadRun& run,

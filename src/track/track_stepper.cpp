@@ -46,7 +46,7 @@ void TrackStepper::step(const std::vector<PointLoad>& loads) {
 void TrackStepper::updateOutputs() {
   newmark_.ballastForces(ballast_);
   soil_.resize(ballast_.size());
-  for (size_t i = 0; i < ballast_.size(); ++i) soil_[i] = 2.0 * ballast_[i];
+  for (size_t i = 0; i < ballast_.size(); ++i) soil_[i] = kHalfTrackRailsOnSoil * ballast_[i];
 }
 
 std::vector<PointLoad> MovingLoadSource::loadsAt(double t_s) const {

@@ -1,6 +1,7 @@
 // railvib/track: frequency-domain helpers (receptance curves, peaks, analytic references).
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <functional>
 #include <vector>
@@ -33,6 +34,23 @@ double winklerBeamStaticDeflection(double bending_stiffness_n_m2, double support
 
 /// Static support stiffness per metre of the track (series pad + ballast [+ Winkler spring]) / spacing.
 double smearedStaticSupportStiffness(const TrackParams& p);
+
+/// A ground under the ballast given in the frequency domain (a soil model's): its vertical dynamic
+/// compliance between the sleepers' footprints at one frequency (m/N, complex, sleepers x sleepers):
+/// entry (i, j) is the downward displacement of the ground under sleeper i per unit downward ballast
+/// force of the modelled track (the half track's rail seat) at sleeper j.
+using GroundCompliance = std::function<Eigen::MatrixXcd(double frequency_hz)>;
+
+/// Direct receptance (m/N) of the rail at x with the ballast standing on `ground` instead of a
+/// foundation model. The model must have the rigid foundation (ballast to a fixed base) and one rail
+/// (track.width: half): the ballast springs then become springs to ground points whose motion is
+/// the ground's, u_g = G f_b, so that the ballast forces are f_b = k_b* (I + k_b* G)^-1 u_s
+/// (k_b* = k_b + i w d_b, u_s the sleepers' displacements), and that dense sleeper-to-sleeper
+/// stiffness replaces the rigid model's k_b* I. Reproduces the Winkler and CLM tracks exactly when
+/// G is their foundation's compliance (test_track). Throws std::invalid_argument.
+std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, double x_m,
+                                                     const std::vector<double>& frequencies_hz,
+                                                     const GroundCompliance& ground);
 
 /// Constant loads moving over the track from static equilibrium: calls sink(t, half-track ballast
 /// forces per sleeper) after every step (and once at t0 with the initial state).

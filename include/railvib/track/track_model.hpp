@@ -66,6 +66,10 @@ enum class Rail { Left = 0, Right = 1 };
 /// both in anti-phase (left down, right up).
 enum class RailLoading { Left, Right, Both, AntiPhase };
 
+/// The soil under a half track receives both rails: the ballast force of the modelled rail seat
+/// times this (the symmetric special case of the full width: both rails load each footprint alike).
+constexpr double kHalfTrackRailsOnSoil = 2.0;
+
 struct ClmParams {
   double mass_kg = 2502.0;
   double stiffness_n_m = 30.0e6;
