@@ -6,11 +6,14 @@
 #include <cmath>
 #include <complex>
 #include <iomanip>
+#include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
 #include "command_registry.hpp"
+#include "railvib/coupling/track_on_soil.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/signal/decimator.hpp"
 #include "railvib/track/track_analysis.hpp"
@@ -74,7 +77,13 @@ int runReceptance(const std::vector<std::string>& argv) {
   ArgParser args("receptance",
                  "direct point receptance of the rail (m/N) from the track model's M, C, K; CSV f_hz,re,im,abs");
   addConfigOptions(args);
-  args.option("foundation", "clm | winkler | rigid (default: track.foundation.model)")
+  args.option(
+          "foundation",
+          "clm | winkler | rigid (default: track.foundation.model) | fe_soil: the ballast on the scenario's FE soil "
+          "(paper Fig. 4's rigorous model; one soil impulse run, about a minute on the Haren mesh)")
+      .option("soil-duration", "fe_soil: simulated time of the soil's impulse run (s; default 1.5)")
+      .option("soil-pulse", "fe_soil: duration of its Hann force pulse (s; default 0.02)")
+      .option("reach", "fe_soil: the soil couples sleepers up to this many apart (default: as far as the box reads)")
       .option("at", "midspan | sleeper (the sleeper nearest x = 0, or the midspan after it)", "sleeper")
       .option("fmin", "lowest frequency (Hz)", "1")
       .option("fmax", "highest frequency (Hz)", "500")
@@ -105,9 +114,37 @@ int runReceptance(const std::vector<std::string>& argv) {
   if (!vary.empty() && vary != "kb" && vary != "kf") throw ArgError("--vary must be kb or kf");
   const std::vector<double> factors =
       vary.empty() ? std::vector<double>{1.0} : parseList(args.get("factors"), "factors");
+  const bool fe_soil = args.has("foundation") && args.get("foundation") == "fe_soil";
+  if (fe_soil && vary == "kf") throw ArgError("--vary kf: the FE soil has no foundation stiffness (vary its layers)");
+  for (const char* option : {"soil-duration", "soil-pulse", "reach"}) {
+    if (!fe_soil && args.has(option)) {
+      throw ArgError(std::string("--") + option + " applies to --foundation fe_soil only");
+    }
+  }
 
-  const Config cfg = loadWithFoundation(args);
+  // fe_soil: the track's own foundation is set aside (track::receptanceOnGround), the soil comes from `soil`.
+  const Config cfg = fe_soil ? loadConfig(args) : loadWithFoundation(args);
   const TrackParams base = track::loadTrackParams(cfg.root());
+  std::unique_ptr<soil::FootprintCompliance> soil;
+  size_t reach = std::numeric_limits<size_t>::max();
+  if (fe_soil) {
+    if (base.width != track::TrackWidth::Half)
+      throw ArgError("--foundation fe_soil takes the half track (track.width: half)");
+    soil::FootprintComplianceSpec spec;
+    if (args.has("soil-duration")) spec.duration_s = positiveOption(args, "soil-duration");
+    if (args.has("soil-pulse")) spec.pulse_s = positiveOption(args, "soil-pulse");
+    if (args.has("reach")) {
+      const double r = positiveOption(args, "reach");
+      if (r != std::floor(r) || r > 1e6) throw ArgError("--reach must be a whole number of sleepers");
+      reach = static_cast<size_t>(r);
+    }
+    const double f_max = soil::loadSoilParams(cfg.root()).mesh.f_max_hz;
+    if (fmax > f_max * (1.0 + 1e-9)) {
+      throw ArgError("--fmax " + fmt(fmax) + " Hz is above the soil mesh's f_max " + fmt(f_max) +
+                     " Hz (soil.mesh.f_max_hz): the FE soil does not resolve it");
+    }
+    soil = std::make_unique<soil::FootprintCompliance>(coupling::scenarioFootprintCompliance(cfg, spec));
+  }
   if (base.width == track::TrackWidth::Half && (loading == RailLoading::Right || loading == RailLoading::AntiPhase)) {
     throw ArgError("--load " + load_name + " needs both rails: --set track.width=full (the half track has one rail)");
   }
@@ -143,7 +180,7 @@ int runReceptance(const std::vector<std::string>& argv) {
       p.winkler.stiffness_n_m *= factor;
     }
     const TrackModel model(p);
-    curves.push_back(model.receptance(x, f, loading));
+    curves.push_back(fe_soil ? coupling::feSoilReceptance(p, *soil, x, f, reach) : model.receptance(x, f, loading));
     std::vector<track::PointLoad> unit;
     const bool full = model.railCount() == 2;
     if (loading != RailLoading::Right) unit.push_back({x, 1.0, Rail::Left});
@@ -157,6 +194,8 @@ int runReceptance(const std::vector<std::string>& argv) {
       std::string kind;
       if (pk.frequency_hz > 0.8 * fpp && pk.frequency_hz < 1.2 * fpp) {
         kind = "pinned_pinned";
+      } else if (fe_soil) {
+        kind = "resonance";
       } else if (pk.frequency_hz < 0.8 * fpp) {
         kind = resonance == 0   ? (p.foundation == FoundationModel::Clm ? "in_phase_rail_ballast_foundation"
                                                                         : "in_phase_rail_sleeper")
@@ -168,7 +207,9 @@ int runReceptance(const std::vector<std::string>& argv) {
       }
       peaks.push_back({{"frequency_hz", pk.frequency_hz}, {"magnitude_m_n", pk.magnitude_m_n}, {"mode", kind}});
     }
-    json run = {{"static_receptance_m_n", model.railPoint(x, observed).displacement(u)}, {"peaks", peaks}};
+    json run = {{"peaks", peaks}};
+    // The FE soil has no static solve here (its lowest frequency stands for it).
+    if (!fe_soil) run["static_receptance_m_n"] = model.railPoint(x, observed).displacement(u);
     if (!vary.empty()) {
       run["factor"] = factor;
       run[vary == "kb" ? "ballast_stiffness_n_m" : "foundation_stiffness_n_m"] =
@@ -190,7 +231,7 @@ int runReceptance(const std::vector<std::string>& argv) {
   }
   csv.commit();
   json summary = {{"command", "receptance"},
-                  {"foundation", track::foundationName(base.foundation)},
+                  {"foundation", fe_soil ? std::string("fe_soil") : track::foundationName(base.foundation)},
                   {"width", base.width == track::TrackWidth::Full ? "full" : "half"},
                   {"load", load_name},
                   {"at", at},
@@ -198,8 +239,9 @@ int runReceptance(const std::vector<std::string>& argv) {
                   {"f_pinned_pinned_hz", fpp},
                   {"frequencies", f.size()},
                   {"csv", args.get("csv")}};
+  if (soil) summary["soil_run"] = soil->summary();
   if (vary.empty()) {
-    summary["static_receptance_m_n"] = runs[0]["static_receptance_m_n"];
+    if (!fe_soil) summary["static_receptance_m_n"] = runs[0]["static_receptance_m_n"];
     summary["peaks"] = runs[0]["peaks"];
   } else {
     summary["vary"] = vary;
@@ -287,7 +329,7 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   track::simulateMovingLoads(model, run, [&](double t, const std::vector<double>& b) {
     double sum = 0.0;
     for (size_t i = 0; i < ns; ++i) {
-      frame[i] = 2.0 * b[i];
+      frame[i] = track::kHalfTrackRailsOnSoil * b[i];
       sum += frame[i];
       peak = std::max(peak, std::abs(frame[i]));
     }
