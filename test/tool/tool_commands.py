@@ -75,6 +75,23 @@ class Cases:
         out = subprocess.run([self.tool, "receptance", "--config", CI, "--csv", path, "--load", "anti"],
                              capture_output=True, text=True)
         check(out.returncode != 0 and "track.width=full" in out.stderr, out.stderr)
+        # The ballast on the FE soil (the CI scenario's coarse 25 Hz mesh, a short impulse run): the ground's
+        # compliance in series makes the track softer than on a rigid base at low frequency.
+        fe_path = WORK / "receptance_fe_soil.csv"
+        fe = self.run("receptance", "--config", CI, "--foundation", "fe_soil", "--soil-duration", 0.4,
+                      "--soil-pulse", 0.03, "--fmin", 2, "--fmax", 25, "--df", 1, "--csv", fe_path)
+        rigid = self.run("receptance", "--config", CI, "--foundation", "rigid", "--fmin", 2, "--fmax", 25, "--df", 1,
+                         "--csv", path)
+        fe_rows = rows(fe_path)
+        check(fe["foundation"] == "fe_soil" and fe["soil_run"]["footprints_each_side"] >= 2 and
+              len(fe_rows) == fe["frequencies"], fe)
+        check(float(fe_rows[0]["abs"]) > 1.2 * rigid["static_receptance_m_n"], (fe_rows[0], rigid))  # measured 1.48
+        for bad, why in ((["--foundation", "fe_soil", "--fmax", 40], "f_max"),
+                         (["--foundation", "fe_soil", "--vary", "kf"], "kf"),
+                         (["--soil-duration", 1], "fe_soil")):
+            out = subprocess.run([self.tool, "receptance", "--config", CI, "--csv", path] + [str(a) for a in bad],
+                                 capture_output=True, text=True)
+            check(out.returncode != 0 and why in out.stderr, (bad, out.stderr))
 
     def moving_load(self):
         path = WORK / "moving_load.csv"
