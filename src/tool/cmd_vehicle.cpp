@@ -226,7 +226,7 @@ class PassageCsv {
     }
     if (!decimator_) return;
     soil_in_.resize(block.ballast_force_n.size());
-    for (size_t k = 0; k < soil_in_.size(); ++k) soil_in_[k] = 2.0 * block.ballast_force_n[k];
+    for (size_t k = 0; k < soil_in_.size(); ++k) soil_in_[k] = track::kHalfTrackRailsOnSoil * block.ballast_force_n[k];
     soil_out_.clear();
     decimator_->push(soil_in_.data(), block.sampleCount(), soil_out_);
     writeSoil();
