@@ -40,7 +40,54 @@ std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n
   return w;
 }
 
+// Integrals of the 1D hat functions of a uniform grid against s over [a, b] (first moments): on each
+// piece between nodes the integrand is quadratic, so two Gauss points per piece are exact.
+std::vector<std::pair<size_t, double>> lineFirstMoments(double x0, double h, size_t n, double a, double b) {
+  std::vector<std::pair<size_t, double>> w;
+  const long i0 = std::max<long>(0, static_cast<long>(std::floor((a - x0) / h)) - 1);
+  const long i1 = std::min<long>(static_cast<long>(n), static_cast<long>(std::ceil((b - x0) / h)) + 1);
+  const double g = 0.5 / std::sqrt(3.0);
+  for (long i = i0; i <= i1; ++i) {
+    const double xi = x0 + h * static_cast<double>(i);
+    double sum = 0.0;
+    for (int side = -1; side <= 1; side += 2) {  // the hat's left and right pieces
+      const double lo = std::max(a, side < 0 ? xi - h : xi), hi = std::min(b, side < 0 ? xi : xi + h);
+      if (hi <= lo) continue;
+      const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+      for (double q : {mid - 2.0 * g * half, mid + 2.0 * g * half}) {
+        const double hat = std::max(0.0, 1.0 - std::abs(q - xi) / h);
+        sum += half * hat * q;
+      }
+    }
+    if (sum != 0.0) w.emplace_back(static_cast<size_t>(i), sum);
+  }
+  return w;
+}
+
 }  // namespace
+
+ForceChannel railSeatFootprint(const StructuredMesh& m, double x_m, double seat_y_m, const TrackLayout& layout) {
+  // The uniform part (the whole footprint's weights) plus the linear part 12 y_s y / L^3 across the track.
+  ForceChannel ch = sleeperFootprint(m, x_m, layout);
+  const double hl = 0.5 * layout.length_m, hw = 0.5 * layout.width_m, len = layout.length_m;
+  const auto wx = lineWeights(m.x0, m.hx, m.nx, x_m - hw, x_m + hw);
+  const auto my = lineFirstMoments(m.y0, m.hy, m.ny, -hl, hl);
+  const double slope = 12.0 * seat_y_m / (len * len * len);
+  for (const auto& [i, a] : wx) {
+    for (const auto& [j, b] : my) {
+      const size_t node = m.node(i, j, 0);
+      const auto it = std::find(ch.nodes.begin(), ch.nodes.end(), node);
+      if (it == ch.nodes.end()) {
+        ch.nodes.push_back(node);
+        ch.components.push_back(2);
+        ch.weights.push_back(a * slope * b);
+      } else {
+        ch.weights[static_cast<size_t>(it - ch.nodes.begin())] += a * slope * b;
+      }
+    }
+  }
+  return ch;
+}
 
 ForceChannel sleeperFootprint(const StructuredMesh& m, double x_m, const TrackLayout& layout) {
   const double hl = 0.5 * layout.length_m, hw = 0.5 * layout.width_m;

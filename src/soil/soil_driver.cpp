@@ -63,7 +63,7 @@ void SoilDriver::pushLoads(uint64_t first_index, const double* forces_n, size_t 
   c.code = Command::kPushLoads;
   c.index = first_index;
   c.count = frames;
-  send(c, forces_n, frames * model_->sleeperCount() * sizeof(double));
+  send(c, forces_n, frames * model_->loadsPerFrame() * sizeof(double));
 }
 
 void SoilDriver::finishLoads() {
@@ -139,7 +139,7 @@ int SoilDriver::serve(std::shared_ptr<SoilComm> comm, const Factory& factory) {
         break;
       }
       case Command::kPushLoads:
-        loads.resize(c.count * need()->sleeperCount());
+        loads.resize(c.count * need()->loadsPerFrame());
         if (!loads.empty()) comm->broadcast(loads.data(), loads.size() * sizeof(double));
         model->pushLoads(c.index, loads.data(), c.count);
         break;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
+#include <utility>
 
 #include "railvib/soil/footprint.hpp"
 
@@ -13,7 +15,20 @@ namespace railvib::soil {
 
 SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
                      const std::vector<RigidBodySpec>& bodies, std::shared_ptr<SoilComm> comm)
-    : params_(params), sleeper_x_(sleeper_x_m) {
+    : SoilModel(params, sleeper_x_m, {}, load_sample_rate_hz, bodies, std::move(comm)) {}
+
+SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m,
+                     const std::vector<double>& rail_seat_y_m, double load_sample_rate_hz,
+                     const std::vector<RigidBodySpec>& bodies, std::shared_ptr<SoilComm> comm)
+    : params_(params), sleeper_x_(sleeper_x_m), seat_y_(rail_seat_y_m) {
+  for (double y : seat_y_) {
+    if (!(std::abs(y) <= 0.5 * params_.track.length_m)) {
+      std::ostringstream why;
+      why << "soil: a rail seat at y = " << y << " m lies off the sleeper's footprint (length "
+          << params_.track.length_m << " m across the track)";
+      throw std::invalid_argument(why.str());
+    }
+  }
   StructuredMesh mesh = buildMesh(params_.profile, params_.mesh);
   solver_ = std::make_unique<Solver>(std::move(mesh), params_.solver, std::move(comm));
   for (const RigidBodySpec& b : bodies) solver_->attachRigidBody(b);
@@ -31,7 +46,11 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
       outside.push_back(s);
       continue;
     }
-    solver_->addForceChannel(sleeperFootprint(m, sleeper_x_[s], params_.track));
+    if (seat_y_.empty()) {
+      solver_->addForceChannel(sleeperFootprint(m, sleeper_x_[s], params_.track));
+    } else {
+      for (double y : seat_y_) solver_->addForceChannel(railSeatFootprint(m, sleeper_x_[s], y, params_.track));
+    }
   }
   if (!outside.empty() && params_.loads_outside_mesh == "error") {
     std::ostringstream why;
@@ -66,9 +85,9 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
       dropped_nearest_receiver_m_ = std::min(dropped_nearest_receiver_m_, distance_m);
     }
   }
-  channel_values_.assign(sleeper_x_.size() - dropped_.size(), 0.0);
-  load_eval_.assign(sleeper_x_.size(), 0.0);
-  loads_ = std::make_unique<signal::StreamInterpolator>(load_sample_rate_hz, sleeper_x_.size(), 0.0);
+  channel_values_.assign((sleeper_x_.size() - dropped_.size()) * loadsPerSleeper(), 0.0);
+  load_eval_.assign(loadsPerFrame(), 0.0);
+  loads_ = std::make_unique<signal::StreamInterpolator>(load_sample_rate_hz, loadsPerFrame(), 0.0);
 
   const double ratio = std::round(1.0 / (solver_->dt() * params_.receiver_rate_hz));
   signal::DecimatorSpec spec;
@@ -174,7 +193,7 @@ std::string SoilModel::droppedLoadsNote() const {
 
 void SoilModel::pushLoads(uint64_t first_index, const double* forces_n, size_t frames) {
   load_tracker_.accept(first_index, frames);
-  const size_t ns = sleeper_x_.size();
+  const size_t ns = loadsPerFrame();
   if (!params_.start_from_static) {
     loads_->push(forces_n, frames);
     return;
@@ -196,12 +215,13 @@ uint64_t SoilModel::advance(double t_target_s) {
   while (solver_->time() < t_target_s - 1e-9 * solver_->dt() && loads_->canEvaluate(solver_->time())) {
     loads_->evaluate(solver_->time(), load_eval_.data());
     size_t c = 0, d = 0;
+    const size_t per = loadsPerSleeper();
     for (size_t s = 0; s < sleeper_x_.size(); ++s) {
       if (d < dropped_.size() && dropped_[d] == s) {
         ++d;
         continue;
       }
-      channel_values_[c++] = load_eval_[s];
+      for (size_t k = 0; k < per; ++k) channel_values_[c++] = load_eval_[s * per + k];
     }
     solver_->setChannelValues(channel_values_);
     solver_->step();

@@ -15,6 +15,14 @@ namespace railvib::soil {
 /// work-conjugate (load-weighted mean) displacement.
 ForceChannel sleeperFootprint(const StructuredMesh& mesh, double x_m, const TrackLayout& layout);
 
+/// A unit vertical (downward) force at the rail seat y = seat_y_m of the sleeper at x_m, spread over the
+/// sleeper's footprint as the linear pressure whose resultant acts at the seat (a rigid sleeper on a
+/// uniform bed: p(y) = (1 / L + 12 seat_y y / L^3) / W over the footprint L x W): the weights sum to
+/// 1 and their first moment in y is seat_y_m. The two seats' channels of a sleeper, loaded alike,
+/// add up to the uniform footprint under twice the load (sleeperFootprint), to round-off; loaded
+/// in anti-phase, to a pure roll moment.
+ForceChannel railSeatFootprint(const StructuredMesh& mesh, double x_m, double seat_y_m, const TrackLayout& layout);
+
 /// The footprint's load-weighted mean of a nodal field component: sum_n w_n value(node_n, c).
 template <class NodalValue>
 double footprintMean(const ForceChannel& footprint, NodalValue&& value) {

@@ -78,6 +78,15 @@ class SoilModel {
   /// rank 0 only (SoilDriver, soil_driver.hpp, lets rank 0 alone be driven from outside).
   SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, double load_sample_rate_hz,
             const std::vector<RigidBodySpec>& bodies = {}, std::shared_ptr<SoilComm> comm = nullptr);
+  /// The same with a force per rail seat (a full-width track): `rail_seat_y_m` are the lateral positions
+  /// (m, frame track) of the seats on every sleeper, and a load frame holds [sleeper][seat] forces, each
+  /// spread over its sleeper's footprint with its resultant at the seat (footprint.hpp,
+  /// railSeatFootprint), so an asymmetric load reaches the soil as a force and a roll moment. Empty:
+  /// one force per sleeper, both rails together, uniform over the footprint (the first constructor).
+  /// Throws std::invalid_argument for a seat off the footprint (|y| > length / 2) or not finite.
+  SoilModel(const SoilParams& params, const std::vector<double>& sleeper_x_m, const std::vector<double>& rail_seat_y_m,
+            double load_sample_rate_hz, const std::vector<RigidBodySpec>& bodies = {},
+            std::shared_ptr<SoilComm> comm = nullptr);
   ~SoilModel();
 
   const Solver& solver() const { return *solver_; }
@@ -85,6 +94,10 @@ class SoilModel {
   double dt() const { return solver_->dt(); }
   double time() const { return solver_->time(); }
   size_t sleeperCount() const { return sleeper_x_.size(); }
+  /// Forces per sleeper in a load frame: 1, or the rail seats' count.
+  size_t loadsPerSleeper() const { return seat_y_.empty() ? 1 : seat_y_.size(); }
+  /// Forces per load frame: sleepers x loadsPerSleeper().
+  size_t loadsPerFrame() const { return sleeperCount() * loadsPerSleeper(); }
   /// Sleepers whose load is ignored (outside the mesh or in a PML zone, loads_outside_mesh = drop).
   const std::vector<size_t>& droppedSleepers() const { return dropped_; }
   /// A sentence for the log when loads are dropped ("" when none): how many, where the loaded region
@@ -94,10 +107,11 @@ class SoilModel {
   /// Mesh, time step, memory and per-layer resolution (printed by the tool).
   nlohmann::json summary() const;
 
-  /// Append load frames [first_index, first_index + frames), row-major [frame][sleeper].
+  /// Append load frames [first_index, first_index + frames), row-major [frame][sleeper] (with rail
+  /// seats [frame][sleeper][seat]).
   void pushLoads(uint64_t first_index, const double* forces_n, size_t frames);
   void pushLoads(uint64_t first_index, const std::vector<double>& forces_n) {
-    pushLoads(first_index, forces_n.data(), forces_n.size() / sleeperCount());
+    pushLoads(first_index, forces_n.data(), forces_n.size() / loadsPerFrame());
   }
   /// No more loads: the last value is held.
   void finishLoads();
@@ -127,6 +141,7 @@ class SoilModel {
 
   SoilParams params_;
   std::vector<double> sleeper_x_;
+  std::vector<double> seat_y_;  // rail seats' lateral positions (m); empty: one force per sleeper
   std::vector<size_t> dropped_;
   size_t dropped_in_zone_ = 0;  // of those, inside the box but in a boundary zone that takes no loads (PML)
   double loaded_x_min_m_ = 0.0, loaded_x_max_m_ = 0.0;  // where footprints are loaded (box less such a zone)

@@ -155,3 +155,36 @@ TEST(FootprintCompliance, BadSpecsAreRefused) {
   EXPECT_THROW(FootprintCompliance(paramsOf(homogeneousScenario(3.0)), FootprintComplianceSpec{}),
                std::invalid_argument);
 }
+
+// A rail seat's share of the footprint: unit resultant at the seat (the first moments give its
+// position), a linear pressure across the track; the two seats' weights add up to twice the
+// footprint's.
+TEST(FootprintCompliance, RailSeatWeightsPutTheLoadAtTheSeat) {
+  const StructuredMesh m =
+      buildMesh({{1.0, kSoil}, {0.0, kSoil}}, MeshSpec{-3.0, 3.0, -2.0, 2.0, 3.0, 20.0, 8.0, 0.25});
+  railvib::TrackLayout layout;
+  layout.length_m = 2.6;
+  layout.width_m = 0.25;
+  for (double x : {0.0, 0.37}) {
+    for (double seat : {0.7175, -0.7175, 0.0, 1.3}) {
+      const ForceChannel ch = railSeatFootprint(m, x, seat, layout);
+      double sum = 0.0, mx = 0.0, my = 0.0;
+      for (size_t n = 0; n < ch.nodes.size(); ++n) {
+        const size_t i = ch.nodes[n] % (m.nx + 1), j = ch.nodes[n] / (m.nx + 1);
+        sum += ch.weights[n];
+        mx += ch.weights[n] * m.x(i);
+        my += ch.weights[n] * m.y(j);
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-12) << x << ", " << seat;
+      EXPECT_NEAR(mx, x, 1e-12) << x << ", " << seat;
+      EXPECT_NEAR(my, seat, 1e-12) << x << ", " << seat;
+    }
+    const ForceChannel whole = sleeperFootprint(m, x, layout);
+    const ForceChannel left = railSeatFootprint(m, x, 0.7175, layout), right = railSeatFootprint(m, x, -0.7175, layout);
+    ASSERT_EQ(left.nodes, whole.nodes);
+    ASSERT_EQ(right.nodes, whole.nodes);
+    for (size_t n = 0; n < whole.nodes.size(); ++n) {
+      EXPECT_NEAR(left.weights[n] + right.weights[n], 2.0 * whole.weights[n], 1e-15);
+    }
+  }
+}
