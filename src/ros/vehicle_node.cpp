@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "railvib/common/config.hpp"
 #include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/ros/tram_display.hpp"
@@ -26,6 +27,13 @@ VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
 
   model_ = std::make_unique<vehicle::VehicleModel>(vehicle::loadVehicleParams(config.root()));
+  // The contact-force stream and its consumers (track node, soil) carry one rail: the half vehicle's
+  // wheels. The full width runs in railvib_tool passage only so far.
+  if (model_->fullWidth()) {
+    throw ConfigError(
+        "track.width = full: the vehicle node streams the half vehicle's contact forces only (the track node and the "
+        "soil take one rail); the full-width passage runs in railvib_tool passage; set track.width: half");
+  }
   const vehicle::PassageParams passage_params = vehicle::loadPassageParams(config.root());
   const track::TrackParams track_params = track::loadTrackParams(config.root());
   unevenness_ = std::make_unique<vehicle::Unevenness>(vehicle::loadUnevennessParams(config.root()),

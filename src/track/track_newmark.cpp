@@ -156,28 +156,38 @@ void TrackNewmark::setConvectedStaticState(const std::vector<PointLoad>& loads, 
   // Steady moving load: u(x, t) = U(x - V t) => v = -V U', a = V^2 U''.
   std::vector<double> d1, d2, vals;
   const std::vector<double>& xn = m.railNodePositions();
+  const Rail rails[2] = {Rail::Left, Rail::Right};
   vals.resize(xn.size());
-  for (int j = 0; j < m.railNodeCount(); ++j) vals[j] = u[m.railTheta(j)];
-  derivatives(xn, vals, d1, d2);
-  for (int j = 0; j < m.railNodeCount(); ++j) {
-    v[m.railW(j)] = -V * u[m.railTheta(j)];  // w' = theta exactly (Hermite)
-    a[m.railW(j)] = V * V * d1[j];
-    v[m.railTheta(j)] = -V * d1[j];
-    a[m.railTheta(j)] = V * V * d2[j];
+  for (int r = 0; r < m.railCount(); ++r) {
+    for (int j = 0; j < m.railNodeCount(); ++j) vals[j] = u[m.railTheta(j, rails[r])];
+    derivatives(xn, vals, d1, d2);
+    for (int j = 0; j < m.railNodeCount(); ++j) {
+      v[m.railW(j, rails[r])] = -V * u[m.railTheta(j, rails[r])];  // w' = theta exactly (Hermite)
+      a[m.railW(j, rails[r])] = V * V * d1[j];
+      v[m.railTheta(j, rails[r])] = -V * d1[j];
+      a[m.railTheta(j, rails[r])] = V * V * d2[j];
+    }
   }
+  // sleeper heave, the base under each rail seat and (full width) the sleeper roll
   const std::vector<double>& xs = m.sleeperPositions();
-  for (int family = 0; family < 2; ++family) {
+  for (int family = 0; family < 4; ++family) {
+    if (family >= 1 && family - 1 >= m.railCount() && family != 3) continue;
     vals.assign(xs.size(), 0.0);
     bool present = true;
+    const auto dof = [&](int s) {
+      if (family == 0) return m.sleeperDof(s);
+      if (family == 3) return m.railCount() == 2 ? m.sleeperRollDof(s) : Eigen::Index{-1};
+      return m.baseDof(s, rails[family - 1]);
+    };
     for (int s = 0; s < m.sleeperCount(); ++s) {
-      const Eigen::Index d = family == 0 ? m.sleeperDof(s) : m.baseDof(s);
+      const Eigen::Index d = dof(s);
       if (d < 0) present = false;
       vals[s] = d >= 0 ? u[d] : 0.0;
     }
     if (!present) continue;
     derivatives(xs, vals, d1, d2);
     for (int s = 0; s < m.sleeperCount(); ++s) {
-      const Eigen::Index d = family == 0 ? m.sleeperDof(s) : m.baseDof(s);
+      const Eigen::Index d = dof(s);
       v[d] = -V * d1[s];
       a[d] = V * V * d2[s];
     }
@@ -270,7 +280,7 @@ void TrackNewmark::commit(const std::vector<PointLoad>& contact_loads) {
   rhs_.setZero();
   for (const auto& l : contact_loads) {
     if (l.force_n == 0.0) continue;
-    model_.railPoint(l.x_m).addLoad(l.force_n, rhs_);
+    model_.railPoint(l.x_m, l.rail).addLoad(l.force_n, rhs_);
     any = true;
   }
   if (any) {
@@ -287,7 +297,7 @@ void TrackNewmark::step(const std::vector<PointLoad>& loads) {
   // One back-substitution: the loads go into the right-hand side directly.
   rhs_.setZero();
   for (const auto& l : loads) {
-    if (l.force_n != 0.0) model_.railPoint(l.x_m).addLoad(l.force_n, rhs_);
+    if (l.force_n != 0.0) model_.railPoint(l.x_m, l.rail).addLoad(l.force_n, rhs_);
   }
   tmp_.noalias() = a0_ * u_ + (4.0 / dt_) * v_ + a_;
   tmp2_.noalias() = a1_ * u_ + v_;

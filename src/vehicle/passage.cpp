@@ -70,26 +70,23 @@ struct FlexibleRail::Impl {
   track::TrackModel model;
   track::TrackNewmark newmark;
   std::vector<track::RailPoint> points;
+  mutable std::vector<double> seat;  // one rail seat's ballast forces (scratch)
 };
 
-FlexibleRail::FlexibleRail(const track::TrackParams& params, double dt_s) {
-  // The half vehicle runs on one rail.
-  if (params.width != track::TrackWidth::Half) {
-    throw ConfigError(
-        "track.width = full: the vehicle/track passage takes the half track only so far (the full width is in the "
-        "track model and railvib_tool receptance --load); set track.width: half");
-  }
-  impl_ = std::make_unique<Impl>(params, dt_s);
-}
+FlexibleRail::FlexibleRail(const track::TrackParams& params, double dt_s)
+    : impl_(std::make_unique<Impl>(params, dt_s)) {}
 FlexibleRail::~FlexibleRail() = default;
+
+int FlexibleRail::railSeatCount() const { return impl_->model.railCount(); }
 
 Eigen::MatrixXd FlexibleRail::staticCompliance(const std::vector<double>& x) {
   const auto n = static_cast<Eigen::Index>(x.size());
   Eigen::MatrixXd G(n, n);
   std::vector<track::RailPoint> pts;
-  for (double xi : x) pts.push_back(impl_->model.railPoint(xi));
+  for (size_t i = 0; i < x.size(); ++i) pts.push_back(impl_->model.railPoint(x[i], wheelRail(i)));
   for (Eigen::Index j = 0; j < n; ++j) {
-    const Eigen::VectorXd u = impl_->model.staticDeflection({track::PointLoad{x[j], 1.0}});
+    const auto jj = static_cast<size_t>(j);
+    const Eigen::VectorXd u = impl_->model.staticDeflection({track::PointLoad{x[jj], 1.0, wheelRail(jj)}});
     for (Eigen::Index i = 0; i < n; ++i) G(i, j) = pts[i].displacement(u);
   }
   return 0.5 * (G + G.transpose());
@@ -97,14 +94,14 @@ Eigen::MatrixXd FlexibleRail::staticCompliance(const std::vector<double>& x) {
 
 void FlexibleRail::start(const std::vector<double>& x, const std::vector<double>& F, double t_s, double V) {
   std::vector<track::PointLoad> loads;
-  for (size_t i = 0; i < x.size(); ++i) loads.push_back({x[i], F[i]});
+  for (size_t i = 0; i < x.size(); ++i) loads.push_back({x[i], F[i], wheelRail(i)});
   impl_->newmark.setConvectedStaticState(loads, V, t_s);
 }
 
 void FlexibleRail::prepareStep(const std::vector<double>& x, Eigen::VectorXd& free, Eigen::MatrixXd& G) {
   auto& I = *impl_;
   I.points.resize(x.size());
-  for (size_t i = 0; i < x.size(); ++i) I.points[i] = I.model.railPoint(x[i]);
+  for (size_t i = 0; i < x.size(); ++i) I.points[i] = I.model.railPoint(x[i], wheelRail(i));
   I.newmark.predict();
   I.newmark.setContactPoints(I.points);
   free = I.newmark.contactFreeDisplacements();
@@ -113,7 +110,21 @@ void FlexibleRail::prepareStep(const std::vector<double>& x, Eigen::VectorXd& fr
 
 void FlexibleRail::commitStep(const std::vector<double>& F) { impl_->newmark.commitContact(F); }
 
-void FlexibleRail::ballastForces(std::vector<double>& out) const { impl_->newmark.ballastForces(out); }
+void FlexibleRail::ballastForces(std::vector<double>& out) const {
+  const auto& m = impl_->model;
+  if (m.railCount() == 1) {
+    impl_->newmark.ballastForces(out);
+    return;
+  }
+  // full width: the left seats, then the right seats
+  const auto& nm = impl_->newmark;
+  const size_t ns = static_cast<size_t>(m.sleeperCount());
+  out.resize(2 * ns);
+  for (track::Rail r : {track::Rail::Left, track::Rail::Right}) {
+    m.ballastForceOnFoundation(nm.displacement(), nm.velocity(), impl_->seat, r);
+    std::copy(impl_->seat.begin(), impl_->seat.end(), out.begin() + static_cast<long>(static_cast<size_t>(r) * ns));
+  }
+}
 
 std::vector<double> FlexibleRail::sleeperPositions() const { return impl_->model.sleeperPositions(); }
 double FlexibleRail::xMin() const { return impl_->model.interiorStart(); }
@@ -187,20 +198,24 @@ void PassageBlock::clear() {
 VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unevenness, const PassageParams& params,
                                std::unique_ptr<RailSupport> rail, PassageOptions options)
     : model_(model), unevenness_(unevenness), params_(params), rail_(std::move(rail)), options_(options) {
-  // The passage takes the half vehicle on the half track so far (issue 17: the coupled run with
-  // both rails, one wheel per rail, is the next step).
-  if (model_.fullWidth()) {
-    throw ConfigError(
-        "track.width = full: the vehicle/track passage takes the half vehicle on the half track only so far (the "
-        "full-width vehicle is in the model, vehicle-modes and wheel-impedance); set track.width: half");
-  }
   nw_ = model_.wheelCount();
+  // Each wheel on its own rail (the half vehicle: every wheel on the half track's left rail). The
+  // vehicle and the flexible track have the same width (track.width, one switch); a rail support of
+  // the other width is a programming error.
+  if (!rail_->isRigid() && (rail_->railSeatCount() == 2) != model_.fullWidth()) {
+    throw std::invalid_argument("VehiclePassage: the vehicle and the track have different widths (track.width)");
+  }
+  {
+    std::vector<track::Rail> rails;
+    for (const auto& w : model_.wheels()) rails.push_back(w.rail);
+    rail_->setWheelRails(std::move(rails));
+  }
   const double dt = params_.time_step_s;
   // ---- accuracy of the time step (Newmark beta = 1/4 is unconditionally stable), from the
   // lightest body on the contact and the smallest wheel, whatever the vehicle
   {
     const double C = model_.params().hertz_constant_n_m1_5;
-    const double f_mean = model_.weightPerRail() / nw_;
+    const double f_mean = model_.weight() / nw_;  // mean static wheel load, either width
     const double kH = 1.5 * C * std::sqrt(std::pow(f_mean / C, 2.0 / 3.0));
     const auto& wheels = model_.wheels();
     const auto by_mass = [](const WheelInfo& a, const WheelInfo& b) { return a.contact_mass_kg < b.contact_mass_kg; };
@@ -263,7 +278,7 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
   z_.resize(nw_);
   for (int i = 0; i < nw_; ++i) {
     radius_[i] = model_.wheels()[i].radius_m;
-    z_[i] = unevenness_.height(x_[i], radius_[i]);
+    z_[i] = unevenness_.height(x_[i], radius_[i], model_.wheels()[i].rail);
   }
   static_ = staticEquilibrium(model_, *rail_, x_, z_);
   q_ = static_.q;
@@ -273,7 +288,7 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
   w_rail_.assign(static_.rail_displacement_m.data(), static_.rail_displacement_m.data() + nw_);
   Fv_ = static_.contact_force_n;
   rail_->start(x_, F_, 0.0, params_.convected_track_start ? params_.speed_m_s : 0.0);
-  tol_n_ = params_.contact_tolerance * model_.weightPerRail() / nw_;
+  tol_n_ = params_.contact_tolerance * model_.weight() / nw_;
 }
 
 void VehiclePassage::positionsAt(double t, std::vector<double>& x) const {
@@ -290,7 +305,7 @@ void VehiclePassage::step() {
   const double dt = params_.time_step_s;
   const double t1 = static_cast<double>(step_ + 1) * dt;
   positionsAt(t1, x_);
-  for (int i = 0; i < nw_; ++i) z_[i] = unevenness_.height(x_[i], radius_[i]);
+  for (int i = 0; i < nw_; ++i) z_[i] = unevenness_.height(x_[i], radius_[i], model_.wheels()[i].rail);
   qs_.noalias() = Pq_ * q_;
   qs_.noalias() += Pv_ * v_;
   qs_.noalias() += Pa_ * a_;
@@ -339,6 +354,7 @@ size_t VehiclePassage::advance(size_t n, PassageBlock& out) {
   out.wheel_count = nw_;
   out.body_count = static_cast<int>(model_.bodies().size());
   out.sleeper_count = static_cast<int>(rail_->sleeperPositions().size());
+  out.rail_seat_count = rail_->railSeatCount();
   const uint64_t total = totalSamples();
   size_t produced = 0;
   while (produced < n && emitted_ < total) {

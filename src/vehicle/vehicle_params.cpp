@@ -336,6 +336,14 @@ UnevennessParams loadUnevennessParams(const ConfigNode& root) {
   u.defect.position_m = d.number("position_m", Range::open(-1.0e5, 1.0e5));
   u.defect.height_m = d.number("height_m", Range::closed(0.0, 0.05));
   u.defect.length_m = d.number("length_m", Range::closed(0.0, 1.0));
+  if (root.has("track")) u.width = track::loadTrackParams(root).width;
+  const std::string rails = d.choice("rails", {"both", "left", "right"}, "both");
+  u.defect.rails = rails == "left" ? DefectRails::Left : rails == "right" ? DefectRails::Right : DefectRails::Both;
+  if (u.defect.rails != DefectRails::Both && u.width == track::TrackWidth::Half) {
+    d.fail("rails", "'" + rails +
+                        "': the half track (track.width: half) is the symmetric special case, its one rail stands "
+                        "for both rails alike; a defect on one rail needs track.width: full");
+  }
   if (u.defect.enabled && root.has("track")) {
     const TrackLayout track = loadTrackLayout(root);
     const double x0 = track.x_min_m;
@@ -363,6 +371,8 @@ UnevennessParams loadUnevennessParams(const ConfigNode& root) {
     p.component_count = static_cast<int>(r.integer("component_count", 1, 100000, p.component_count));
     p.seed = static_cast<unsigned long>(r.integer("seed", 0, 2147483647L, static_cast<long>(p.seed)));
     p.grid_spacing_m = r.number("grid_spacing_m", Range::closed(1e-4, 0.1), p.grid_spacing_m);
+    p.coherence = r.number("coherence", Range::closed(0.0, 1.0), p.coherence);
+    p.coherence_decay_m_rad = r.number("coherence_decay_m_rad", Range::closed(0.0, 100.0), p.coherence_decay_m_rad);
   }
   if (un.has("measured_profile")) {
     const ConfigNode m = un.section("measured_profile");

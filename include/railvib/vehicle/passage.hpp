@@ -27,19 +27,22 @@
 #include <memory>
 #include <vector>
 
+#include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/unevenness.hpp"
 #include "railvib/vehicle/vehicle_model.hpp"
 
-namespace railvib::track {
-struct TrackParams;
-}
-
 namespace railvib::vehicle {
 
-/// The rail under the wheels, as the vehicle's step sees it.
+/// The rail(s) under the wheels, as the vehicle's step sees them. Each wheel stands on its own rail
+/// (setWheelRails: WheelInfo::rail; the half track has the left rail only): every x_m list below is
+/// one position per wheel, in the order of those rails.
 class RailSupport {
  public:
   virtual ~RailSupport() = default;
+  /// The rail under each wheel (default: every wheel on the left rail, the half track's).
+  void setWheelRails(std::vector<track::Rail> rails) { wheel_rails_ = std::move(rails); }
+  /// Rail seats per sleeper in ballastForces(): 1 (half track) or 2 (full width: left, then right).
+  virtual int railSeatCount() const { return 1; }
   virtual bool isRigid() const = 0;
   /// Static compliance (m/N): rail static displacement at x_i per unit load at x_j.
   virtual Eigen::MatrixXd staticCompliance(const std::vector<double>& x_m) = 0;
@@ -54,12 +57,20 @@ class RailSupport {
                            Eigen::MatrixXd& compliance_m_n) = 0;
   /// Finish the step with the contact forces (N, downward on the rail).
   virtual void commitStep(const std::vector<double>& forces_n) = 0;
-  /// Ballast-to-soil loads per sleeper, half track (N, downward); empty for a rigid rail.
+  /// Ballast-to-foundation loads per rail seat and sleeper (N, downward): [seat * sleepers + s],
+  /// seat 0 the left rail's (the half track's only seat), 1 the right's; empty for a rigid rail.
   virtual void ballastForces(std::vector<double>& out) const = 0;
   virtual std::vector<double> sleeperPositions() const = 0;
   /// Range of x where wheels may be (m).
   virtual double xMin() const = 0;
   virtual double xMax() const = 0;
+
+ protected:
+  /// The rail of wheel i (Left when not set or beyond the list).
+  track::Rail wheelRail(size_t i) const { return i < wheel_rails_.size() ? wheel_rails_[i] : track::Rail::Left; }
+
+ private:
+  std::vector<track::Rail> wheel_rails_;
 };
 
 /// Undeformable rail.
@@ -82,6 +93,7 @@ class FlexibleRail : public RailSupport {
   FlexibleRail(const track::TrackParams& params, double dt_s);
   ~FlexibleRail() override;
   bool isRigid() const override { return false; }
+  int railSeatCount() const override;
   Eigen::MatrixXd staticCompliance(const std::vector<double>& x) override;
   void start(const std::vector<double>& x, const std::vector<double>& F, double t_s, double speed_m_s) override;
   void prepareStep(const std::vector<double>& x, Eigen::VectorXd& free, Eigen::MatrixXd& G) override;
@@ -121,13 +133,16 @@ StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, cons
 StaticState staticEquilibrium(const VehicleModel& model, const Eigen::MatrixXd& rail_compliance_m_n,
                               const std::vector<double>& unevenness_m);
 
-/// Per-sample outputs of a block; per-wheel arrays are sample-major: [k * wheels + i].
+/// Per-sample outputs of a block; per-wheel arrays are sample-major: [k * wheels + i] (full width:
+/// one wheel per rail per axle, VehicleModel::wheels()[i].rail).
 struct PassageBlock {
   uint64_t first_index = 0;
   double time_step_s = 0.0;
   int wheel_count = 0;
   int body_count = 0;
   int sleeper_count = 0;
+  /// Rail seats per sleeper in ballast_force_n: 1 (half track), 2 (full width: left, right).
+  int rail_seat_count = 1;
   std::vector<double> time_s;
   std::vector<double> wheel_x_m;             ///< contact point position along the track
   std::vector<double> contact_force_n;       ///< compression positive
@@ -135,7 +150,9 @@ struct PassageBlock {
   std::vector<double> rail_displacement_m;   ///< rail under the wheel (down)
   std::vector<double> wheel_displacement_m;  ///< contact DOF of the wheel (down)
   std::vector<BodyPose> poses;               ///< [k * body_count + b] when record_poses
-  std::vector<double> ballast_force_n;       ///< half track, [k * sleeper_count + s] when record_ballast
+  /// Ballast force on the foundation per rail seat (N, downward), when record_ballast:
+  /// [(k * rail_seat_count + seat) * sleeper_count + s]; the half track has one seat: [k * sleeper_count + s].
+  std::vector<double> ballast_force_n;
   size_t sampleCount() const { return time_s.size(); }
   void clear();
 };

@@ -12,6 +12,16 @@
 // optional measured profile read from a CSV (x_m, z_m), linearly interpolated,
 // zero outside its range. (b) and (c) are taken as seen by the wheel (their
 // wavelengths are long compared with the contact patch).
+//
+// Per rail (full width, docs/vehicle.md "Unevenness per rail"): the defect on
+// the left rail, the right or both (defect.rails); the random profile of the
+// left rail is the half track's, the right rail's has the same PSD and the
+// coherence gamma(W) = coherence exp(-decay W) with it, each component split
+// into a part in phase with the left rail's and an independent one:
+//     z_R = sum_k A_k [gamma_k cos(W_k x + phi_k) + sqrt(1 - gamma_k^2) cos(W_k x + psi_k)];
+// a measured profile is one column for both rails (z_m) or one per rail
+// (z_left_m, z_right_m). The half track has the left rail only, its
+// symmetric special case: both rails alike.
 #pragma once
 
 #include <vector>
@@ -33,20 +43,23 @@ class Unevenness {
   /// std::runtime_error if the measured CSV cannot be read or is not increasing.
   Unevenness(const UnevennessParams& params, double x_min_m, double x_max_m);
 
-  /// Height seen by a wheel of radius R at x (m, positive up).
-  double height(double x_m, double wheel_radius_m) const;
-  double defectHeight(double x_m, double wheel_radius_m) const;
-  double randomHeight(double x_m) const;
-  double measuredHeight(double x_m) const;
+  /// Height seen by a wheel of radius R at x on a rail (m, positive up; the half track: Left).
+  /// Throws std::invalid_argument for the right rail of the half track.
+  double height(double x_m, double wheel_radius_m, track::Rail rail = track::Rail::Left) const;
+  double defectHeight(double x_m, double wheel_radius_m, track::Rail rail = track::Rail::Left) const;
+  double randomHeight(double x_m, track::Rail rail = track::Rail::Left) const;
+  double measuredHeight(double x_m, track::Rail rail = track::Rail::Left) const;
   const UnevennessParams& params() const { return params_; }
   /// One-sided PSD of the random irregularity, m^2/(rad/m), at wavenumber W (rad/m).
   double psd(double wavenumber_rad_m) const;
 
  private:
+  void checkRail(track::Rail rail) const;
+
   UnevennessParams params_;
   double grid_x0_ = 0.0, grid_dx_ = 1.0;
-  std::vector<double> random_grid_;
-  std::vector<double> measured_x_, measured_z_;
+  std::vector<double> random_grid_[2];  // per rail (left, right); the half track: left only
+  std::vector<double> measured_x_, measured_z_[2];
 };
 
 }  // namespace railvib::vehicle

@@ -145,18 +145,30 @@ struct RandomIrregularityParams {
   unsigned long seed = 1;
   /// Sampling of the precomputed profile (m).
   double grid_spacing_m = 5.0e-3;
+  /// Full width: the right rail's profile has the same PSD and, with the left rail's, the coherence
+  /// gamma(W) = coherence exp(-coherence_decay_m_rad W) (docs/vehicle.md, "Unevenness per rail");
+  /// coherence 1 and decay 0: both rails alike. Read and unused at half width (one rail).
+  double coherence = 1.0;
+  double coherence_decay_m_rad = 0.0;
 };
 
 struct MeasuredProfileParams {
   bool enabled = false;
-  std::string file;    ///< CSV with columns x_m, z_m (z up, m)
+  /// CSV with columns x_m and z_m (z up, m; both rails alike) or, full width only, z_left_m and
+  /// z_right_m (one profile per rail).
+  std::string file;
   double scale = 1.0;  ///< multiplies z
   /// Largest |scale x z| accepted (limits.unevenness_m): a profile beyond it is refused.
   double max_abs_m = 0.1;
 };
 
+/// The rails a local defect lies on (unevenness.defect.rails).
+enum class DefectRails { Left, Right, Both };
+
 struct DefectParams {
   bool enabled = true;
+  /// Both (the half track's symmetric special case, its only choice) or one rail (full width).
+  DefectRails rails = DefectRails::Both;
   double position_m = 0.0;  ///< start of the pad (m along the track)
   double height_m = 1.0e-3;
   double length_m = 5.0e-3;
@@ -166,6 +178,8 @@ struct UnevennessParams {
   DefectParams defect;
   RandomIrregularityParams random;
   MeasuredProfileParams measured;
+  /// The track's width (track.width): the rails that exist.
+  track::TrackWidth width = track::TrackWidth::Half;
 };
 
 /// The rail the vehicle runs on in the passage (simulation.vehicle_track).
@@ -206,7 +220,8 @@ VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name)
 /// Names of the vehicles in the library `vehicles`, in file order.
 std::vector<std::string> vehicleLibrary(const ConfigNode& root);
 /// Read `unevenness` (defect; optional random/measured); checks the defect lies
-/// inside the modelled track (`track.extent`) when that section exists.
+/// inside the modelled track (`track.extent`) when that section exists, and refuses a defect on one
+/// rail of the half track (its one rail stands for both: the symmetric special case).
 UnevennessParams loadUnevennessParams(const ConfigNode& root);
 /// Read `simulation` (rail under the vehicle, speed, duration, time step, front axle start): the one
 /// loader of that section, for every node and command that needs its values.

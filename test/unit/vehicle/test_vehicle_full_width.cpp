@@ -340,20 +340,6 @@ TEST(FullWidthVehicle, FlexibleTrackModesContainTheHalfChains) {
   EXPECT_TRUE(roll);
 }
 
-// The passage takes the half vehicle only so far: the full width is refused with the key.
-TEST(FullWidthVehicle, PassageRefusesTheFullWidth) {
-  const Config c = haren({"track.width=full"});
-  const VehicleModel full(loadVehicleParams(c.root()));
-  const auto tp = track::loadTrackParams(c.root());
-  const Unevenness unevenness(loadUnevennessParams(c.root()), tp.layout.x_min_m, tp.layout.x_max_m);
-  try {
-    VehiclePassage run(full, unevenness, loadPassageParams(c.root()), std::make_unique<RigidRail>());
-    ADD_FAILURE() << "full width accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("track.width"), std::string::npos) << e.what();
-  }
-}
-
 // ------------------------------------------------------------------ bad input
 namespace {
 std::string fullWidthError(std::vector<std::string> overrides) {
