@@ -113,6 +113,26 @@ TEST(FootprintCompliance, FarFootprintsMoveAsUnderAPointLoadOnAHalfSpace) {
   EXPECT_THROW(c.compliance(c.distanceCount(), 10.0), std::out_of_range);
 }
 
+// The same run, short (the sanitizer build's stand-in for the test above, test/sanitizer/long_tests.txt):
+// the response is linear in the force (the compliance does not change with it) and the two sides of the
+// loaded footprint agree on this symmetric grid.
+TEST(FootprintCompliance, ShortRunIsLinearAndSymmetric) {
+  const SoilParams p = paramsOf(homogeneousScenario(4.2));
+  FootprintComplianceSpec spec;
+  spec.duration_s = 0.06;
+  const FootprintCompliance a(p, spec);
+  spec.force_n *= 3.0;
+  const FootprintCompliance b(p, spec);
+  ASSERT_EQ(a.distanceCount(), 3u);
+  EXPECT_LT(static_cast<double>(a.summary()["side_difference"]), 1e-4);
+  for (size_t k = 0; k < a.distanceCount(); ++k) {
+    for (double f : {10.0, 20.0}) {
+      EXPECT_NEAR(std::abs(b.compliance(k, f) / a.compliance(k, f) - 1.0), 0.0, 1e-5) << k << ", " << f << " Hz";
+    }
+  }
+  EXPECT_GT(std::abs(a.compliance(0, 10.0)), std::abs(a.compliance(2, 10.0)));
+}
+
 // The footprint's consistent loads sum to the force and its mean of a uniform field is that field.
 TEST(FootprintCompliance, FootprintWeightsAreAUnitLoad) {
   const StructuredMesh m =

@@ -20,7 +20,7 @@ using Cplx = std::complex<double>;
 
 std::vector<double> frequencies() {
   std::vector<double> f;
-  for (double v = 0.5; v <= 300.0; v += 4.3) f.push_back(v);
+  for (double v = 0.5; v <= 300.0; v += 8.3) f.push_back(v);
   return f;
 }
 
