@@ -316,3 +316,129 @@ TEST(FullWidthPassage, RefusesUnevennessForRailsThatDoNotExist) {
                      "unevenness.measured_profile.file=" + per_rail}),
             "");
 }
+
+// (c) Work and energy: the undamped full-width vehicle on the rigid track, the defect on the left rail
+// only (the vehicle bounces, pitches and rolls). The rail profile moving under the wheels is the only
+// external work: E(t) - E(0) = sum_i int F_i dz_i, E = kinetic + springs + gravity potential -f_g^T q
+// + Hertz potential 2/5 C delta^2.5 of every wheel. Newmark (average acceleration) conserves the
+// energy of the linear part exactly; the work and the Hertz potential are integrated by the
+// trapezoidal rule, O(dt^2): 6.7e-4 of the work at dt = 2e-5 s, a quarter of it at 1e-5 s (the
+// impacts and the losses of contact, where delta varies fastest). Bound: 1e-3 of the work.
+TEST(FullWidthPassage, UndampedVehicleWorkEnergyBalanceOverAOneRailDefect) {
+  const std::string t = "vehicles.t2000.suspension_stages.";
+  PassageRun full(with(kOverDefect, {"simulation.vehicle_track=rigid", "unevenness.defect.rails=left",
+                                     "simulation.time_step_s=1.0e-5", t + "secondary.damping_n_s_m=0",
+                                     t + "motor_primary.damping_n_s_m=0", t + "trailer_primary.damping_n_s_m=0",
+                                     t + "resilient_ring.damping_n_s_m=0"}),
+                  true);
+  const VehicleModel& m = full.model;
+  ASSERT_EQ(m.damping().norm(), 0.0);
+  VehiclePassage run(m, full.unevenness, full.pp, makeRailSupport(full.pp, full.tp));
+  const double C = m.params().hertz_constant_n_m1_5;
+  const auto energy = [&](const VehiclePassage& r) {
+    const Eigen::VectorXd& q = r.displacement();
+    const Eigen::VectorXd& v = r.velocity();
+    double e = 0.5 * v.dot(m.mass() * v) + 0.5 * q.dot(m.stiffness() * q) - m.gravityLoad().dot(q);
+    for (int i = 0; i < m.wheelCount(); ++i) {
+      const double delta = q[m.wheels()[i].contact_dof] + r.unevennessUnderWheels()[i];
+      if (delta > 0.0) e += 0.4 * C * delta * delta * std::sqrt(delta);
+    }
+    return e;
+  };
+  PassageBlock b;
+  run.advance(1, b);
+  const double e0 = energy(run);
+  std::vector<double> F = run.contactForces(), z = run.unevennessUnderWheels();
+  double work = 0.0, worst = 0.0, exchanged = 0.0, roll = 0.0;
+  while (!run.finished()) {
+    run.advance(1, b);
+    for (int i = 0; i < m.wheelCount(); ++i) {
+      work += 0.5 * (F[i] + run.contactForces()[i]) * (run.unevennessUnderWheels()[i] - z[i]);
+    }
+    F = run.contactForces();
+    z = run.unevennessUnderWheels();
+    const double e = energy(run);
+    worst = std::max(worst, std::abs(e - e0 - work));
+    exchanged = std::max(exchanged, std::abs(work));
+    for (const BodyPose& p : run.bodyPoses()) roll = std::max(roll, std::abs(p.roll_rad));
+  }
+  EXPECT_GT(exchanged, 1.0);  // the defect does work (J)
+  EXPECT_GT(roll, 1e-6);
+  EXPECT_LT(worst, 1e-3 * exchanged);
+  std::printf("[ figures  ] undamped, rigid, left-rail defect: work %.4g J, worst |E - E0 - W| %.3g J (%.3g)\n",
+              exchanged, worst, worst / exchanged);
+  RecordProperty("relative_energy_error", sci(worst / exchanged));
+}
+
+// Unevenness per rail: the defect on the rails it names; the random profile of the right rail is the
+// left rail's (coherence 1, no decay) or has the coherence gamma(W) = coherence exp(-decay W) with it
+// (the correlation of the two rails' profiles, averaged over seeds, against sum S dW gamma / sum S dW);
+// a measured profile per rail.
+TEST(FullWidthPassage, UnevennessPerRail) {
+  const auto unevenness = [](std::vector<std::string> o) {
+    o.push_back("track.width=full");
+    const Config c = haren(o);
+    const auto tp = track::loadTrackParams(c.root());
+    return Unevenness(loadUnevennessParams(c.root()), tp.layout.x_min_m, tp.layout.x_max_m);
+  };
+  const double R = 0.34;
+  {
+    const Unevenness u = unevenness({"unevenness.defect.rails=right"});
+    EXPECT_EQ(u.height(0.001, R, track::Rail::Left), 0.0);
+    EXPECT_NEAR(u.height(0.001, R, track::Rail::Right), 1.0e-3, 1e-15);
+  }
+  {
+    const Unevenness u = unevenness({"unevenness.random.enabled=true", "unevenness.random.coherence=1",
+                                     "unevenness.random.coherence_decay_m_rad=0"});
+    for (double x = -20.0; x < 20.0; x += 0.37) {
+      EXPECT_EQ(u.randomHeight(x, track::Rail::Left), u.randomHeight(x, track::Rail::Right));
+    }
+  }
+  // flat PSD over 0.5-5 m (every wavenumber counts alike: many independent components), 10 seeds
+  const double gamma0 = 0.8, decay = 0.2;
+  for (const double coherence : {0.0, gamma0}) {
+    double cross = 0.0, left = 0.0, right = 0.0;
+    for (int seed = 1; seed <= 10; ++seed) {
+      const Unevenness u = unevenness({"unevenness.defect.enabled=false", "unevenness.random.enabled=true",
+                                       "unevenness.random.psd=power_law", "unevenness.random.power_law_exponent=0",
+                                       "unevenness.random.min_wavelength_m=0.5", "unevenness.random.max_wavelength_m=5",
+                                       "unevenness.random.component_count=200", "unevenness.random.grid_spacing_m=0.02",
+                                       "unevenness.random.seed=" + std::to_string(seed),
+                                       "unevenness.random.coherence=" + std::to_string(coherence),
+                                       "unevenness.random.coherence_decay_m_rad=" + std::to_string(decay)});
+      for (double x = -40.0; x < 40.0; x += 0.02) {
+        const double l = u.randomHeight(x, track::Rail::Left), r = u.randomHeight(x, track::Rail::Right);
+        cross += l * r;
+        left += l * l;
+        right += r * r;
+      }
+    }
+    // the model's expectation: the components' weights S(W_k) dW_k (flat S: dW_k), log-spaced W_k
+    const int n = 200;
+    const double W0 = 2 * M_PI / 5.0, W1 = 2 * M_PI / 0.5;
+    double num = 0.0, den = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double lo = W0 * std::pow(W1 / W0, double(k) / n), hi = W0 * std::pow(W1 / W0, double(k + 1) / n);
+      num += (hi - lo) * coherence * std::exp(-decay * std::sqrt(lo * hi));
+      den += hi - lo;
+    }
+    const double rho = cross / std::sqrt(left * right), expected = num / den;
+    std::printf(
+        "[ figures  ] coherence %.1f, decay %.1f m/rad: rail correlation %.4f (model %.4f), variance ratio %.4f\n",
+        coherence, decay, rho, expected, right / left);
+    EXPECT_NEAR(rho, expected, 0.05) << coherence;
+    EXPECT_NEAR(right / left, 1.0, 0.1) << coherence;  // the right rail has the left rail's PSD
+  }
+  // a measured profile per rail (full width), and one column for both rails
+  const std::string per_rail = profileFile("per_rail_heights.csv", "x_m,z_left_m,z_right_m");
+  const Unevenness u = unevenness({"unevenness.defect.enabled=false", "unevenness.measured_profile.enabled=true",
+                                   "unevenness.measured_profile.file=" + per_rail});
+  EXPECT_DOUBLE_EQ(u.measuredHeight(-0.5, track::Rail::Left), 1e-4);
+  EXPECT_DOUBLE_EQ(u.measuredHeight(-0.5, track::Rail::Right), 2e-4);
+  EXPECT_DOUBLE_EQ(u.measuredHeight(-0.25, track::Rail::Right), 1e-4);
+  const std::string common = profileFile("common_heights.csv", "x_m,z_m");
+  const Unevenness c = unevenness({"unevenness.defect.enabled=false", "unevenness.measured_profile.enabled=true",
+                                   "unevenness.measured_profile.file=" + common});
+  EXPECT_DOUBLE_EQ(c.measuredHeight(-0.5, track::Rail::Left), 1e-4);
+  EXPECT_DOUBLE_EQ(c.measuredHeight(-0.5, track::Rail::Right), 1e-4);
+}
