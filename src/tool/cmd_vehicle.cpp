@@ -189,12 +189,15 @@ struct PassageSetup {
   bool flexible() const { return passage.vehicle_track == VehicleTrack::Flexible; }
 };
 
-/// CSV outputs of a passage: contact forces and unevenness every N-th step; on a flexible track the
-/// soil loads (both rails, anti-alias decimated to track.output.load_sample_rate_hz) and the sleepers.
+/// CSV outputs of a passage: contact forces and unevenness every N-th step, a column per wheel
+/// (axleI_... at half width; axleI_left_... and axleI_right_... at full width); on a flexible track
+/// the soil loads (both rails: 2 x the half track's seat, or the sum of the full width's two seats;
+/// anti-alias decimated to track.output.load_sample_rate_hz) and the sleepers.
 class PassageCsv {
  public:
   PassageCsv(const std::string& dir, const PassageSetup& setup, const std::vector<double>& sleepers, long every)
-      : nw_(setup.model.wheelCount()),
+      : model_(setup.model),
+        nw_(setup.model.wheelCount()),
         ns_(sleepers.size()),
         every_(static_cast<uint64_t>(every)),
         forces_(dir + "/contact_forces.csv", wheelColumns("_force_n")),
@@ -225,8 +228,21 @@ class PassageCsv {
       writeRow(unevenness_, block.time_s[k], block.unevenness_m, k);
     }
     if (!decimator_) return;
-    soil_in_.resize(block.ballast_force_n.size());
-    for (size_t k = 0; k < soil_in_.size(); ++k) soil_in_[k] = track::kHalfTrackRailsOnSoil * block.ballast_force_n[k];
+    if (block.rail_seat_count == 1) {
+      soil_in_.resize(block.ballast_force_n.size());
+      for (size_t k = 0; k < soil_in_.size(); ++k)
+        soil_in_[k] = track::kHalfTrackRailsOnSoil * block.ballast_force_n[k];
+    } else {
+      // full width: the whole sleeper's load, both rail seats (their split is in PassageBlock)
+      soil_in_.assign(block.sampleCount() * ns_, 0.0);
+      for (size_t k = 0; k < block.sampleCount(); ++k) {
+        for (size_t seat = 0; seat < static_cast<size_t>(block.rail_seat_count); ++seat) {
+          for (size_t s = 0; s < ns_; ++s)
+            soil_in_[k * ns_ + s] +=
+                block.ballast_force_n[(k * static_cast<size_t>(block.rail_seat_count) + seat) * ns_ + s];
+        }
+      }
+    }
     soil_out_.clear();
     decimator_->push(soil_in_.data(), block.sampleCount(), soil_out_);
     writeSoil();
@@ -246,7 +262,14 @@ class PassageCsv {
  private:
   std::vector<std::string> wheelColumns(const std::string& suffix) const {
     std::vector<std::string> cols{"t_s"};
-    for (int i = 0; i < nw_; ++i) cols.push_back("axle" + std::to_string(i) + suffix);
+    for (int i = 0; i < nw_; ++i) {
+      const WheelInfo& w = model_.wheels()[i];
+      if (!model_.fullWidth()) {
+        cols.push_back("axle" + std::to_string(i) + suffix);
+      } else {
+        cols.push_back("axle" + std::to_string(w.axle) + (w.rail == track::Rail::Left ? "_left" : "_right") + suffix);
+      }
+    }
     return cols;
   }
   void writeRow(io::CsvWriter& csv, double t_s, const std::vector<double>& per_wheel, size_t k) {
@@ -262,6 +285,7 @@ class PassageCsv {
     }
   }
 
+  const VehicleModel& model_;
   int nw_;
   size_t ns_;
   uint64_t every_;
@@ -299,14 +323,17 @@ json passageWheels(const PassageSetup& setup, const VehiclePassage& run, const C
     const double x0 = setup.passage.front_axle_start_m - setup.model.wheels()[i].offset_m;
     const double t_defect =
         defect.enabled ? (defect.position_m + 0.5 * defect.length_m - x0) / setup.passage.speed_m_s : -1.0;
-    wheels.push_back({{"axle", i},
-                      {"type", setup.model.wheels()[i].type == AxleType::Motor ? "motor" : "trailer"},
-                      {"static_force_n", s0.contact_force_n[i]},
-                      {"peak_force_n", f.peak[i]},
-                      {"peak_dynamic_force_n", f.peak[i] - s0.contact_force_n[i]},
-                      {"min_force_n", f.min[i]},
-                      {"time_of_peak_s", f.time_of_peak[i]},
-                      {"time_over_defect_s", t_defect}});
+    const WheelInfo& w = setup.model.wheels()[i];
+    json wheel = {{"axle", setup.model.fullWidth() ? w.axle : i}};
+    if (setup.model.fullWidth()) wheel["rail"] = w.rail == track::Rail::Left ? "left" : "right";
+    wheel.update({{"type", w.type == AxleType::Motor ? "motor" : "trailer"},
+                  {"static_force_n", s0.contact_force_n[i]},
+                  {"peak_force_n", f.peak[i]},
+                  {"peak_dynamic_force_n", f.peak[i] - s0.contact_force_n[i]},
+                  {"min_force_n", f.min[i]},
+                  {"time_of_peak_s", f.time_of_peak[i]},
+                  {"time_over_defect_s", t_defect}});
+    wheels.push_back(wheel);
   }
   return wheels;
 }
@@ -363,19 +390,21 @@ int passage(const std::vector<std::string>& args) {
   }
   csv.commit();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  printJson({{"vehicle", setup.model.params().name},
-             {"track", setup.flexible() ? "flexible" : "rigid"},
-             {"foundation", setup.flexible() ? track::foundationName(setup.track.foundation) : "none"},
-             {"speed_m_s", setup.passage.speed_m_s},
-             {"duration_s", setup.passage.duration_s},
-             {"time_step_s", setup.passage.time_step_s},
-             {"steps", total - 1},
-             {"weight_per_rail_n", setup.model.weightPerRail()},
-             {"wheels", passageWheels(setup, run, forces)},
-             {"max_newton_iterations", run.maxNewtonIterations()},
-             {"setup_time_s", t_setup},
-             {"wall_time_s", wall},
-             {"out", dir}});
+  json summary({{"vehicle", setup.model.params().name},
+                {"track", setup.flexible() ? "flexible" : "rigid"},
+                {"foundation", setup.flexible() ? track::foundationName(setup.track.foundation) : "none"},
+                {"speed_m_s", setup.passage.speed_m_s},
+                {"duration_s", setup.passage.duration_s},
+                {"time_step_s", setup.passage.time_step_s},
+                {"steps", total - 1},
+                {"weight_per_rail_n", setup.model.weightPerRail()},
+                {"wheels", passageWheels(setup, run, forces)},
+                {"max_newton_iterations", run.maxNewtonIterations()},
+                {"setup_time_s", t_setup},
+                {"wall_time_s", wall},
+                {"out", dir}});
+  if (setup.model.fullWidth()) summary["width"] = "full";  // the half width's JSON is unchanged
+  printJson(summary);
   return 0;
 }
 

@@ -134,6 +134,31 @@ class Cases:
         loads = rows(out / "soil_loads.csv")
         total = sum(float(v) for k, v in loads[0].items() if k != "t_s")
         check(abs(total / (2 * s["weight_per_rail_n"]) - 1) < 0.01, f"{total} vs 2 x {s['weight_per_rail_n']}")
+        # Full width, the defect on both rails (symmetric): a column per wheel (axleI_left/right), each the
+        # half model's wheel; the soil loads (both seats summed) the half track's x 2. The defect on the left
+        # rail only: the left wheel of the front axle takes the impact, its partner less.
+        full_out = WORK / "passage_full"
+        full = self.run("passage", "--config", CI, "--duration", 0.05, "--out", full_out, "--set", "track.width=full")
+        check(full["width"] == "full" and len(full["wheels"]) == 2 * len(s["wheels"]), full)
+        half_rows, full_rows = rows(out / "contact_forces.csv"), rows(full_out / "contact_forces.csv")
+        check(len(half_rows) == len(full_rows), "as many contact-force rows at both widths")
+        # (round-off drifts apart over the steps: 1e-8 of the peak in the unit test; bound 1e-6)
+        peak = max(w["peak_force_n"] for w in s["wheels"])
+        worst = max(abs(float(f[f"axle{a}_{rail}_force_n"]) - float(h[f"axle{a}_force_n"]))
+                    for h, f in zip(half_rows, full_rows) for a in range(len(s["wheels"])) for rail in ("left", "right"))
+        check(worst < 1e-6 * peak, f"full-width wheels vs the half model's: {worst} N")
+        full_loads = rows(full_out / "soil_loads.csv")
+        worst = max(abs(float(full_loads[k][c]) - float(loads[k][c])) for k in range(len(loads)) for c in loads[0])
+        check(worst < 1e-6 * max(abs(float(v)) for v in loads[0].values()), f"soil loads differ by {worst} N")
+        left = self.run("passage", "--config", CI, "--duration", 0.05, "--out", WORK / "passage_left",
+                        "--set", "track.width=full", "--set", "unevenness.defect.rails=left",
+                        "--set", "simulation.front_axle_start_m=-0.3")
+        axle0 = {w["rail"]: w for w in left["wheels"] if w["axle"] == 0}
+        check(axle0["left"]["peak_force_n"] > 2 * axle0["right"]["peak_force_n"], axle0)
+        # the half track has one rail, standing for both: a defect on one rail is refused with the key
+        bad = subprocess.run([self.tool, "passage", "--config", CI, "--duration", "0.05", "--out", str(WORK / "passage_bad"),
+                              "--set", "unevenness.defect.rails=left"], capture_output=True, text=True)
+        check(bad.returncode != 0 and "unevenness.defect.rails" in bad.stderr, bad.stderr)
 
     # ------------------------------------------------------------------ soil
     def soil(self):
