@@ -77,6 +77,8 @@ FlexibleRail::FlexibleRail(const track::TrackParams& params, double dt_s)
     : impl_(std::make_unique<Impl>(params, dt_s)) {}
 FlexibleRail::~FlexibleRail() = default;
 
+const track::TrackNewmark& FlexibleRail::integrator() const { return impl_->newmark; }
+
 int FlexibleRail::railSeatCount() const { return impl_->model.railCount(); }
 
 Eigen::MatrixXd FlexibleRail::staticCompliance(const std::vector<double>& x) {
@@ -136,8 +138,17 @@ std::unique_ptr<RailSupport> makeRailSupport(const PassageParams& params, const 
 }
 
 // ------------------------------------------------------------------ statics
+namespace {
+std::vector<track::Rail> wheelRails(const VehicleModel& model) {
+  std::vector<track::Rail> rails;
+  for (const auto& w : model.wheels()) rails.push_back(w.rail);
+  return rails;
+}
+}  // namespace
+
 StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, const std::vector<double>& x,
                               const std::vector<double>& z) {
+  rail.setWheelRails(wheelRails(model));  // each wheel on its own rail
   return staticEquilibrium(model, rail.staticCompliance(x), z);
 }
 
@@ -205,11 +216,7 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
   if (!rail_->isRigid() && (rail_->railSeatCount() == 2) != model_.fullWidth()) {
     throw std::invalid_argument("VehiclePassage: the vehicle and the track have different widths (track.width)");
   }
-  {
-    std::vector<track::Rail> rails;
-    for (const auto& w : model_.wheels()) rails.push_back(w.rail);
-    rail_->setWheelRails(std::move(rails));
-  }
+  rail_->setWheelRails(wheelRails(model_));
   const double dt = params_.time_step_s;
   // ---- accuracy of the time step (Newmark beta = 1/4 is unconditionally stable), from the
   // lightest body on the contact and the smallest wheel, whatever the vehicle

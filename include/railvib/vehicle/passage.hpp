@@ -31,6 +31,10 @@
 #include "railvib/vehicle/unevenness.hpp"
 #include "railvib/vehicle/vehicle_model.hpp"
 
+namespace railvib::track {
+class TrackNewmark;
+}
+
 namespace railvib::vehicle {
 
 /// The rail(s) under the wheels, as the vehicle's step sees them. Each wheel stands on its own rail
@@ -102,6 +106,8 @@ class FlexibleRail : public RailSupport {
   std::vector<double> sleeperPositions() const override;
   double xMin() const override;
   double xMax() const override;
+  /// The track's integrator (its state: energies, displacements) and model.
+  const track::TrackNewmark& integrator() const;
   struct Impl;
   Impl& impl() { return *impl_; }
 

@@ -19,6 +19,7 @@
 
 #include "railvib/common/config.hpp"
 #include "railvib/track/track_model.hpp"
+#include "railvib/track/track_newmark.hpp"
 #include "railvib/vehicle/passage.hpp"
 
 using namespace railvib;
@@ -441,4 +442,69 @@ TEST(FullWidthPassage, UnevennessPerRail) {
                                    "unevenness.measured_profile.file=" + common});
   EXPECT_DOUBLE_EQ(c.measuredHeight(-0.5, track::Rail::Left), 1e-4);
   EXPECT_DOUBLE_EQ(c.measuredHeight(-0.5, track::Rail::Right), 1e-4);
+}
+
+// (c) The same balance for the coupled system: the undamped full-width vehicle on the undamped
+// full-width CLM track (no dampers, no absorbing ends), the defect on the left rail. Besides the
+// profile, the contact points move along the deflected rails: the work is
+// sum_i int F_i (dz_i - V w_rail'(x_i) dt), the second part from the rail displacement under the
+// moving point at the fixed state (trapezoidal in F and in the state). E adds the track's kinetic
+// and strain energy and takes the Hertz compression against the rail.
+TEST(FullWidthPassage, UndampedCoupledSystemWorkEnergyBalance) {
+  const std::string t = "vehicles.t2000.suspension_stages.";
+  PassageRun full(with(kOverDefect, {"simulation.time_step_s=1.0e-5", "unevenness.defect.rails=left",
+                                     t + "secondary.damping_n_s_m=0", t + "motor_primary.damping_n_s_m=0",
+                                     t + "trailer_primary.damping_n_s_m=0", t + "resilient_ring.damping_n_s_m=0",
+                                     "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
+                                     "track.ballast.damping_n_s_m=0", "track.foundation.clm.damping_n_s_m=0",
+                                     "track.foundation.clm.coupling_damping_n_s_m=0"}),
+                  true);
+  const VehicleModel& m = full.model;
+  ASSERT_EQ(m.damping().norm(), 0.0);
+  VehiclePassage run(m, full.unevenness, full.pp, makeRailSupport(full.pp, full.tp));
+  const track::TrackNewmark& track = dynamic_cast<FlexibleRail&>(run.rail()).integrator();
+  ASSERT_EQ(track.model().damping().norm(), 0.0);
+  const double C = m.params().hertz_constant_n_m1_5;
+  const auto energy = [&]() {
+    const Eigen::VectorXd& q = run.displacement();
+    const Eigen::VectorXd& v = run.velocity();
+    double e = 0.5 * v.dot(m.mass() * v) + 0.5 * q.dot(m.stiffness() * q) - m.gravityLoad().dot(q);
+    for (int i = 0; i < m.wheelCount(); ++i) {
+      const double delta =
+          q[m.wheels()[i].contact_dof] + run.unevennessUnderWheels()[i] - run.railDisplacementUnderWheels()[i];
+      if (delta > 0.0) e += 0.4 * C * delta * delta * std::sqrt(delta);
+    }
+    return e + track.totalEnergy();
+  };
+  const auto railUnder = [&](const std::vector<double>& x, int i, const Eigen::VectorXd& u) {
+    return track.model().railPoint(x[i], m.wheels()[i].rail).displacement(u);
+  };
+  PassageBlock b;
+  run.advance(1, b);
+  const double e0 = energy();
+  std::vector<double> F = run.contactForces(), z = run.unevennessUnderWheels(), x = run.wheelPositions();
+  Eigen::VectorXd u = track.displacement();
+  double work = 0.0, worst = 0.0, exchanged = 0.0;
+  while (!run.finished()) {
+    run.advance(1, b);
+    const Eigen::VectorXd& u1 = track.displacement();
+    const std::vector<double>& x1 = run.wheelPositions();
+    for (int i = 0; i < m.wheelCount(); ++i) {
+      // the rail's displacement change under the moving point at the fixed (mid-step) state
+      const double convected =
+          0.5 * (railUnder(x1, i, u) + railUnder(x1, i, u1) - railUnder(x, i, u) - railUnder(x, i, u1));
+      work += 0.5 * (F[i] + run.contactForces()[i]) * (run.unevennessUnderWheels()[i] - z[i] - convected);
+    }
+    F = run.contactForces();
+    z = run.unevennessUnderWheels();
+    x = x1;
+    u = u1;
+    worst = std::max(worst, std::abs(energy() - e0 - work));
+    exchanged = std::max(exchanged, std::abs(work));
+  }
+  EXPECT_GT(exchanged, 1.0);
+  EXPECT_LT(worst, 1e-3 * exchanged);
+  std::printf("[ figures  ] undamped coupled CLM, left-rail defect: work %.4g J, worst |E - E0 - W| %.3g J (%.3g)\n",
+              exchanged, worst, worst / exchanged);
+  RecordProperty("relative_energy_error", sci(worst / exchanged));
 }
