@@ -172,17 +172,19 @@ TEST(FullWidthPassage, SymmetricDefectReproducesTheHalfModel) {
   }
 }
 
-// (a) Random irregularity identical on both rails (coherence 1, no decay) is a symmetric input too.
+// (a) Random irregularity identical on both rails (coherence 1, no decay) is a symmetric input too
+// (CLM, convected start: this test runs the full-width start under the sanitizers).
 TEST(FullWidthPassage, IdenticalRandomIrregularityReproducesTheHalfModel) {
-  const Agreement a =
-      compareWithHalf(with(kOverDefect, {"unevenness.random.enabled=true", "unevenness.random.coherence=1.0",
-                                         "unevenness.random.coherence_decay_m_rad=0"}));
+  const Agreement a = compareWithHalf(
+      with(kOverDefect, {"unevenness.random.enabled=true", "unevenness.random.coherence=1.0",
+                         "unevenness.random.coherence_decay_m_rad=0", "simulation.convected_track_start=true"}));
   EXPECT_LT(a.contact, 1e-7);
   EXPECT_LT(a.ballast, 1e-7);
   EXPECT_LT(a.roll_rad, 1e-12);
   RecordProperty("contact", sci(a.contact));
-  std::printf("[ figures  ] random irregularity on both rails alike, CLM: contact %.3g, ballast %.3g\n", a.contact,
-              a.ballast);
+  std::printf(
+      "[ figures  ] random irregularity on both rails alike, CLM, convected start: contact %.3g, ballast %.3g\n",
+      a.contact, a.ballast);
 }
 
 // (b) Gravity alone: each wheel carries the half model's static wheel load, on the rigid and the
