@@ -21,6 +21,7 @@
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "railvib/soil/verification.hpp"
+#include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 #include "tool_common.hpp"
 
@@ -544,7 +545,10 @@ double peakRssGb() {
 int soilRun(const std::vector<std::string>& args) {
   ArgParser p("soil", "offline 3D soil run: sleeper loads CSV in, receiver velocities + surface snapshots out");
   addConfigOptions(p);
-  p.option("loads", "soil loads CSV (t_s, sleeper_0, ...; N, downward +, both rails), e.g. passage soil_loads.csv");
+  p.option("loads",
+           "soil loads CSV (t_s, then a column per sleeper, N, downward +, both rails; or, from a full-width "
+           "passage, x_<position>_left and x_<position>_right per sleeper: each rail seat's force), e.g. passage "
+           "soil_loads.csv");
   p.option("sleepers",
            "sleeper positions CSV (sleeper, x_m); default: sleepers.csv next to --loads, else the "
            "track config rule",
@@ -579,7 +583,32 @@ int soilRun(const std::vector<std::string>& args) {
                                formatValue(limits.soil_load_n) + " N a sleeper load may be (limits.soil_load_n)");
     }
   }
-  const size_t ns = loads.columns.size() - 1;
+  // A full-width passage gives each rail seat's force: columns <sleeper>_left, <sleeper>_right, in pairs.
+  auto endsWith = [](const std::string& text, const std::string& tail) {
+    return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  const size_t seats = endsWith(loads.columns[1], "_left") ? 2 : 1;
+  if (seats == 2) {
+    for (size_t c = 1; c < loads.columns.size(); ++c) {
+      const char* tail = c % 2 == 1 ? "_left" : "_right";
+      if (!endsWith(loads.columns[c], tail) ||
+          (c % 2 == 0 && loads.columns[c].substr(0, loads.columns[c].size() - 6) !=
+                             loads.columns[c - 1].substr(0, loads.columns[c - 1].size() - 5))) {
+        throw std::runtime_error(p.get("loads") + ": column " + std::to_string(c + 1) + " '" + loads.columns[c] +
+                                 "': rail seat columns come in pairs <sleeper>_left, <sleeper>_right");
+      }
+    }
+  }
+  if ((loads.columns.size() - 1) % seats != 0) {
+    throw std::runtime_error(p.get("loads") + ": the rail seat columns do not pair up");
+  }
+  const size_t ns = (loads.columns.size() - 1) / seats;
+  // Rail seats at +-rail_gauge / 2 (left = +y, the building's side), as the full-width track has them.
+  std::vector<double> seat_y;
+  if (seats == 2) {
+    const double a = track::loadTrackParams(root).rail_seat_offset_m;
+    seat_y = {a, -a};
+  }
   std::vector<double> sleeper_x;
   std::string sleeper_file = p.get("sleepers") == "auto" ? "" : p.get("sleepers");
   if (sleeper_file.empty()) {
@@ -613,8 +642,9 @@ int soilRun(const std::vector<std::string>& args) {
 
   const auto wall0 = std::chrono::steady_clock::now();
   // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
-  SoilModel model(params, sleeper_x, rate, coupling::attachedBodies(cfg.root(), params), comm);
+  SoilModel model(params, sleeper_x, seat_y, rate, coupling::attachedBodies(cfg.root(), params), comm);
   nlohmann::json summary = model.summary();
+  summary["loads_per_sleeper"] = model.loadsPerSleeper();
   // Each rank's memory; the summary reports the largest.
   summary["memory_bytes"] = comm->maximum(summary["memory_bytes"].get<double>());
   if (is_root)
@@ -630,7 +660,7 @@ int soilRun(const std::vector<std::string>& args) {
   }
   if (is_root && !model.droppedSleepers().empty()) std::cerr << "soil: " << model.droppedLoadsNote() << "\n";
   std::vector<double> frame;
-  frame.reserve(loads.rows.size() * ns);
+  frame.reserve(loads.rows.size() * ns * seats);
   for (const auto& r : loads.rows) frame.insert(frame.end(), r.begin() + 1, r.end());
   model.pushLoads(0, frame.data(), loads.rows.size());
   model.finishLoads();

@@ -191,7 +191,9 @@ struct PassageSetup {
 
 /// CSV outputs of a passage: contact forces and unevenness every N-th step, a column per wheel
 /// (axleI_... at half width; axleI_left_... and axleI_right_... at full width); on a flexible track
-/// the soil loads (both rails: 2 x the half track's seat, or the sum of the full width's two seats;
+/// the soil loads (half width: both rails, 2 x the half track's seat, a column x_<position> per sleeper;
+/// full width: each rail seat's force, columns x_<position>_left and x_<position>_right per sleeper,
+/// which `railvib_tool soil --loads` spreads over the footprint with their resultant at the seat;
 /// anti-alias decimated to track.output.load_sample_rate_hz) and the sleepers.
 class PassageCsv {
  public:
@@ -199,6 +201,7 @@ class PassageCsv {
       : model_(setup.model),
         nw_(setup.model.wheelCount()),
         ns_(sleepers.size()),
+        seats_(setup.model.fullWidth() ? 2 : 1),
         every_(static_cast<uint64_t>(every)),
         forces_(dir + "/contact_forces.csv", wheelColumns("_force_n")),
         unevenness_(dir + "/unevenness.csv", wheelColumns("_unevenness_m")) {
@@ -208,14 +211,19 @@ class PassageCsv {
     for (size_t s = 0; s < ns_; ++s) {
       std::ostringstream name;
       name << "x_" << std::setprecision(6) << sleepers[s];
-      cols.push_back(name.str());
+      if (seats_ == 1) {
+        cols.push_back(name.str());
+      } else {
+        cols.push_back(name.str() + "_left");
+        cols.push_back(name.str() + "_right");
+      }
     }
     soil_ = std::make_unique<io::CsvWriter>(dir + "/soil_loads.csv", cols);
     signal::DecimatorSpec spec;
     spec.input_rate_hz = 1.0 / setup.passage.time_step_s;
     const double ratio = std::round(spec.input_rate_hz / setup.track.load_sample_rate_hz);
     spec.output_rate_hz = spec.input_rate_hz / std::max(1.0, ratio);
-    decimator_ = std::make_unique<signal::Decimator>(spec, ns_);
+    decimator_ = std::make_unique<signal::Decimator>(spec, ns_ * seats_);
     io::CsvWriter sl(dir + "/sleepers.csv", {"sleeper", "x_m"});
     for (size_t s = 0; s < ns_; ++s) sl.row({static_cast<double>(s), sleepers[s]});
     sl.commit();
@@ -233,13 +241,16 @@ class PassageCsv {
       for (size_t k = 0; k < soil_in_.size(); ++k)
         soil_in_[k] = track::kHalfTrackRailsOnSoil * block.ballast_force_n[k];
     } else {
-      // full width: the whole sleeper's load, both rail seats (their split is in PassageBlock)
-      soil_in_.assign(block.sampleCount() * ns_, 0.0);
+      // full width: each rail seat's force, [sample][sleeper][seat] (the block holds [sample][seat][sleeper])
+      if (static_cast<size_t>(block.rail_seat_count) != seats_) {
+        throw std::logic_error("passage: a block with " + std::to_string(block.rail_seat_count) + " rail seats, " +
+                               std::to_string(seats_) + " expected");
+      }
+      soil_in_.resize(block.sampleCount() * ns_ * seats_);
       for (size_t k = 0; k < block.sampleCount(); ++k) {
-        for (size_t seat = 0; seat < static_cast<size_t>(block.rail_seat_count); ++seat) {
+        for (size_t seat = 0; seat < seats_; ++seat) {
           for (size_t s = 0; s < ns_; ++s)
-            soil_in_[k * ns_ + s] +=
-                block.ballast_force_n[(k * static_cast<size_t>(block.rail_seat_count) + seat) * ns_ + s];
+            soil_in_[(k * ns_ + s) * seats_ + seat] = block.ballast_force_n[(k * seats_ + seat) * ns_ + s];
         }
       }
     }
@@ -278,16 +289,18 @@ class PassageCsv {
     csv.row(row_);
   }
   void writeSoil() {
-    for (size_t k = 0; k + ns_ <= soil_out_.size(); k += ns_) {
+    const size_t width = ns_ * seats_;
+    for (size_t k = 0; k + width <= soil_out_.size(); k += width) {
       row_.assign(1, decimator_->outputTime(soil_rows_++));
-      row_.insert(row_.end(), soil_out_.begin() + static_cast<long>(k), soil_out_.begin() + static_cast<long>(k + ns_));
+      row_.insert(row_.end(), soil_out_.begin() + static_cast<long>(k),
+                  soil_out_.begin() + static_cast<long>(k + width));
       soil_->row(row_);
     }
   }
 
   const VehicleModel& model_;
   int nw_;
-  size_t ns_;
+  size_t ns_, seats_;
   uint64_t every_;
   io::CsvWriter forces_, unevenness_;
   std::unique_ptr<io::CsvWriter> soil_;

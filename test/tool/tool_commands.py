@@ -135,7 +135,7 @@ class Cases:
         total = sum(float(v) for k, v in loads[0].items() if k != "t_s")
         check(abs(total / (2 * s["weight_per_rail_n"]) - 1) < 0.01, f"{total} vs 2 x {s['weight_per_rail_n']}")
         # Full width, the defect on both rails (symmetric): a column per wheel (axleI_left/right), each the
-        # half model's wheel; the soil loads (both seats summed) the half track's x 2. The defect on the left
+        # half model's wheel; the soil loads a column per rail seat, the two seats' sum the half track's x 2. The defect on the left
         # rail only: the left wheel of the front axle takes the impact, its partner less.
         full_out = WORK / "passage_full"
         full = self.run("passage", "--config", CI, "--duration", 0.05, "--out", full_out, "--set", "track.width=full")
@@ -148,8 +148,13 @@ class Cases:
                     for h, f in zip(half_rows, full_rows) for a in range(len(s["wheels"])) for rail in ("left", "right"))
         check(worst < 1e-6 * peak, f"full-width wheels vs the half model's: {worst} N")
         full_loads = rows(full_out / "soil_loads.csv")
-        worst = max(abs(float(full_loads[k][c]) - float(loads[k][c])) for k in range(len(loads)) for c in loads[0])
+        sleepers = [c for c in loads[0] if c != "t_s"]
+        check(list(full_loads[0]) == ["t_s"] + [f"{c}_{seat}" for c in sleepers for seat in ("left", "right")],
+              "a column per rail seat, left then right, per sleeper")
+        worst = max(abs(float(full_loads[k][f"{c}_left"]) + float(full_loads[k][f"{c}_right"]) - float(loads[k][c]))
+                    for k in range(len(loads)) for c in sleepers)
         check(worst < 1e-6 * max(abs(float(v)) for v in loads[0].values()), f"soil loads differ by {worst} N")
+        self.passage_full_dir = full_out
         left = self.run("passage", "--config", CI, "--duration", 0.05, "--out", WORK / "passage_left",
                         "--set", "track.width=full", "--set", "unevenness.defect.rails=left",
                         "--set", "simulation.front_axle_start_m=-0.3")
@@ -170,6 +175,17 @@ class Cases:
         r = rows(out / "receivers.csv")
         check(len(r) == 21, f"{len(r)} receiver frames for 0.02 s at 1 kHz")
         check(all(math.isfinite(v["peak_abs_vz_m_s"]) for v in s["receiver_peaks"].values()), "finite peaks")
+        # The full-width passage's loads per rail seat (symmetric): the same ground motion as the half chain's,
+        # to the float soil's round-off (1.5e-6 of the 2 m peak over the CI scenario's 0.5 s, measured).
+        full_out = WORK / "soil_full"
+        full = self.run("soil", "--config", CI, "--loads", self.passage_full_dir / "soil_loads.csv", "--out", full_out,
+                        "--duration", 0.02)
+        check(full["loads_per_sleeper"] == 2 and s["loads_per_sleeper"] == 1, (full["loads_per_sleeper"], s))
+        fr = rows(full_out / "receivers.csv")
+        cols = [c for c in r[0] if c != "t_s"]
+        peak = max(abs(float(row[c])) for row in r for c in cols)
+        worst = max(abs(float(a[c]) - float(b[c])) for a, b in zip(r, fr) for c in cols)
+        check(len(fr) == len(r) and worst < 1e-4 * peak, f"full-width soil vs half: {worst} of a {peak} m/s peak")
 
     def soil_bench(self):
         s = self.run("soil-bench", "throughput", "--nx", 16, "--ny", 8, "--nz", 4, "--steps", 3, "--repeat", 1,
