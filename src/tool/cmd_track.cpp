@@ -157,11 +157,7 @@ int runReceptance(const std::vector<std::string>& argv) {
   // Position: the sleeper nearest x = 0 (inside the rail), or the midspan after it.
   const TrackModel probe(base);
   const auto& xs = probe.sleeperPositions();
-  size_t i0 = 0;
-  for (size_t i = 0; i < xs.size(); ++i) {
-    if (std::abs(xs[i]) < std::abs(xs[i0])) i0 = i;
-  }
-  i0 = std::min(i0, xs.size() - 2);
+  const size_t i0 = std::min(static_cast<size_t>(probe.nearestSleeper(0.0)), xs.size() - 2);
   const double x = at == "sleeper" ? xs[i0] : xs[i0] + 0.5 * base.layout.spacing_m;
   const double fpp = track::pinnedPinnedFrequency(base);
 

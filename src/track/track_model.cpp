@@ -177,6 +177,14 @@ void TrackModel::build() {
   K_.makeCompressed();
 }
 
+int TrackModel::nearestSleeper(double x_m) const {
+  size_t best = 0;
+  for (size_t i = 1; i < sleeper_x_.size(); ++i) {
+    if (std::abs(sleeper_x_[i] - x_m) < std::abs(sleeper_x_[best] - x_m)) best = i;
+  }
+  return static_cast<int>(best);
+}
+
 RailPoint TrackModel::railPoint(double x_m, Rail rail) const {
   const double x0 = node_x_.front(), x1 = node_x_.back();
   const double tol = 1e-9 * std::max(1.0, std::abs(x1 - x0));

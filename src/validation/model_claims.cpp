@@ -76,16 +76,12 @@ const char* kConfig = "--config config/haren.yaml";
 /// Resonance peaks of the rail receptance at the sleeper nearest x = 0, below 0.8 f_pp.
 std::vector<double> trackPeaks(const track::TrackParams& p) {
   const track::TrackModel model(p);
-  const auto& xs = model.sleeperPositions();
-  size_t i0 = 0;
-  for (size_t i = 0; i < xs.size(); ++i) {
-    if (std::abs(xs[i]) < std::abs(xs[i0])) i0 = i;
-  }
+  const double x0 = model.sleeperPositions()[static_cast<size_t>(model.nearestSleeper(0.0))];
   std::vector<double> f;
   for (double v = 1.0; v <= 200.0 + 1e-9; v += 0.25) f.push_back(v);
   const double fpp = track::pinnedPinnedFrequency(p);
   std::vector<double> out;
-  for (const auto& pk : track::findPeaks(f, model.receptance(xs[i0], f))) {
+  for (const auto& pk : track::findPeaks(f, model.receptance(x0, f))) {
     if (pk.frequency_hz < 0.8 * fpp) out.push_back(pk.frequency_hz);
   }
   return out;
@@ -233,17 +229,13 @@ void rigorousTrackClaims(const Config& cfg, const ValidationOptions& opt, std::v
   const track::TrackParams base = track::loadTrackParams(cfg.root());
   const soil::FootprintCompliance soil = coupling::scenarioFootprintCompliance(cfg, soil::FootprintComplianceSpec{});
   const track::TrackModel probe(base);
-  const auto& xs = probe.sleeperPositions();
-  size_t i0 = 0;
-  for (size_t i = 0; i < xs.size(); ++i) {
-    if (std::abs(xs[i]) < std::abs(xs[i0])) i0 = i;
-  }
+  const double x0 = probe.sleeperPositions()[static_cast<size_t>(probe.nearestSleeper(0.0))];
   std::vector<double> f;
   for (double v = 1.0; v <= std::min(50.0, soil.maxFrequencyHz()) + 1e-9; v += 0.25) f.push_back(v);
-  const auto fe = coupling::feSoilReceptance(base, soil, xs[i0], f);
-  const auto fe_half_reach = coupling::feSoilReceptance(base, soil, xs[i0], f, (soil.distanceCount() - 1) / 2);
-  const auto clm = track::TrackModel(withFoundation(base, track::FoundationModel::Clm)).receptance(xs[i0], f);
-  const auto wink = track::TrackModel(withFoundation(base, track::FoundationModel::Winkler)).receptance(xs[i0], f);
+  const auto fe = coupling::feSoilReceptance(base, soil, x0, f);
+  const auto fe_half_reach = coupling::feSoilReceptance(base, soil, x0, f, (soil.distanceCount() - 1) / 2);
+  const auto clm = track::TrackModel(withFoundation(base, track::FoundationModel::Clm)).receptance(x0, f);
+  const auto wink = track::TrackModel(withFoundation(base, track::FoundationModel::Winkler)).receptance(x0, f);
   const std::vector<double> d_clm = levelDifferenceDb(clm, fe), d_wink = levelDifferenceDb(wink, fe);
   const double reach_effect = maxAbs(levelDifferenceDb(fe_half_reach, fe));
   const auto pf = track::findPeaks(f, fe), pcl = track::findPeaks(f, clm);

@@ -169,6 +169,8 @@ class TrackModel {
 
   int sleeperCount() const { return static_cast<int>(sleeper_x_.size()); }
   const std::vector<double>& sleeperPositions() const { return sleeper_x_; }
+  /// Index of the sleeper nearest x (m); the first of two at the same distance.
+  int nearestSleeper(double x_m) const;
   int railNodeCount() const { return static_cast<int>(node_x_.size()); }
   const std::vector<double>& railNodePositions() const { return node_x_; }
   double railStart() const { return node_x_.front(); }
