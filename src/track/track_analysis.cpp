@@ -91,24 +91,6 @@ std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, do
   const RailPoint at = model.railPoint(x_m);
   Eigen::VectorXcd load = Eigen::VectorXcd::Zero(model.dofCount());
   for (int k = 0; k < 4; ++k) load[at.dofs[k]] += at.weights[k];
-  // The rigid model's K, M and C entries, to which each frequency adds its sleeper block.
-  struct Entry {
-    Eigen::Index row, col;
-    double k, m, c;
-  };
-  std::vector<Entry> entries;
-  auto collect = [&](const Eigen::SparseMatrix<double>& mat, double Entry::*field) {
-    for (int col = 0; col < mat.outerSize(); ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(mat, col); it; ++it) {
-        Entry e{it.row(), it.col(), 0.0, 0.0, 0.0};
-        e.*field = it.value();
-        entries.push_back(e);
-      }
-    }
-  };
-  collect(model.stiffness(), &Entry::k);
-  collect(model.mass(), &Entry::m);
-  collect(model.damping(), &Entry::c);
   Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
   bool analysed = false;
   std::vector<Cplx> out;
@@ -127,17 +109,17 @@ std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, do
     // Ballast on the ground: f_b = k_b* (I + k_b* G)^-1 u_s.
     const Eigen::MatrixXcd ballast =
         kb * (Eigen::MatrixXcd::Identity(n, n) + kb * g).partialPivLu().solve(Eigen::MatrixXcd::Identity(n, n));
+    // Every entry of the sleeper block, zeros too, so that the pattern analysed once holds at every frequency.
     t.clear();
-    t.reserve(entries.size() + static_cast<size_t>(n * (n + 1)));
-    for (const Entry& e : entries) t.emplace_back(e.row, e.col, Cplx(e.k - w * w * e.m, w * e.c));
-    // Every entry of the block, zeros too, so that the pattern analysed once holds at every frequency.
+    t.reserve(static_cast<size_t>(n * (n + 1)));
     for (Eigen::Index i = 0; i < n; ++i) {
       const Eigen::Index si = model.sleeperDof(static_cast<int>(i));
       t.emplace_back(si, si, -kb);  // the rigid model's ballast to the fixed base
       for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(si, model.sleeperDof(static_cast<int>(j)), ballast(i, j));
     }
-    Eigen::SparseMatrix<Cplx> a(model.dofCount(), model.dofCount());
-    a.setFromTriplets(t.begin(), t.end());
+    Eigen::SparseMatrix<Cplx> block(model.dofCount(), model.dofCount());
+    block.setFromTriplets(t.begin(), t.end());
+    Eigen::SparseMatrix<Cplx> a = model.dynamicStiffness(f) + block;
     a.makeCompressed();
     if (!analysed) {
       lu.analyzePattern(a);

@@ -275,15 +275,12 @@ std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::
   const RailPoint observed = railPoint(x_m, loading == RailLoading::Right ? Rail::Right : Rail::Left);
   Eigen::VectorXcd r = Eigen::VectorXcd::Zero(n_dof_);
   for (int k = 0; k < 4; ++k) r[observed.dofs[k]] += observed.weights[k];
-  const Eigen::SparseMatrix<Cplx> Kc = K_.cast<Cplx>(), Mc = M_.cast<Cplx>(), Cc = C_.cast<Cplx>();
   Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
   std::vector<Cplx> out;
   out.reserve(frequencies_hz.size());
   bool analysed = false;
   for (double f : frequencies_hz) {
-    const double w = 2.0 * M_PI * f;
-    Eigen::SparseMatrix<Cplx> A = Kc - (w * w) * Mc + Cplx(0.0, w) * Cc;
-    A.makeCompressed();
+    const Eigen::SparseMatrix<Cplx> A = dynamicStiffness(f);
     if (!analysed) {
       lu.analyzePattern(A);
       analysed = true;
@@ -294,6 +291,14 @@ std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::
     out.push_back(r.transpose() * x);
   }
   return out;
+}
+
+Eigen::SparseMatrix<std::complex<double>> TrackModel::dynamicStiffness(double frequency_hz) const {
+  using Cplx = std::complex<double>;
+  const double w = 2.0 * M_PI * frequency_hz;
+  Eigen::SparseMatrix<Cplx> a = K_.cast<Cplx>() - (w * w) * M_.cast<Cplx>() + Cplx(0.0, w) * C_.cast<Cplx>();
+  a.makeCompressed();
+  return a;
 }
 
 double TrackModel::strainEnergy(const Eigen::VectorXd& u) const { return 0.5 * u.dot(K_ * u); }

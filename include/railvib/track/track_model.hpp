@@ -211,6 +211,10 @@ class TrackModel {
   /// Static deflection K u = f under point loads.
   Eigen::VectorXd staticDeflection(const std::vector<PointLoad>& loads) const;
 
+  /// Dynamic stiffness K - w^2 M + i w C at a frequency (w = 2 pi f); its sparsity pattern is the
+  /// same at every frequency (one symbolic analysis serves a sweep).
+  Eigen::SparseMatrix<std::complex<double>> dynamicStiffness(double frequency_hz) const;
+
   /// Direct receptance (m/N) of the rail at x: w(x) / F(x) for the harmonic
   /// load F e^{i w t}; (K - w^2 M + i w C) X = r. One sparse LU per frequency.
   std::complex<double> receptance(double x_m, double frequency_hz) const;
