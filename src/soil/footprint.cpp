@@ -25,12 +25,17 @@ double hatIntegral(double xi, double h_left, double h_right, double a, double b)
   return prim(b) - prim(a);
 }
 
+// The nodes of a uniform 1D grid (n + 1 nodes from x0, step h) whose hat functions may touch [a, b].
+std::pair<long, long> nodesAround(double x0, double h, size_t n, double a, double b) {
+  return {std::max<long>(0, static_cast<long>(std::floor((a - x0) / h)) - 1),
+          std::min<long>(static_cast<long>(n), static_cast<long>(std::ceil((b - x0) / h)) + 1)};
+}
+
 // Weights of the nodes of a uniform 1D grid (n + 1 nodes from x0, step h) for a
 // uniform load on [a, b] (consistent nodal loads, sum 1 when [a, b] is inside).
 std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n, double a, double b) {
   std::vector<std::pair<size_t, double>> w;
-  const long i0 = std::max<long>(0, static_cast<long>(std::floor((a - x0) / h)) - 1);
-  const long i1 = std::min<long>(static_cast<long>(n), static_cast<long>(std::ceil((b - x0) / h)) + 1);
+  const auto [i0, i1] = nodesAround(x0, h, n, a, b);
   for (long i = i0; i <= i1; ++i) {
     const double xi = x0 + h * static_cast<double>(i);
     const double hl = i == 0 ? 1e-300 : h, hr = i == static_cast<long>(n) ? 1e-300 : h;
@@ -44,8 +49,7 @@ std::vector<std::pair<size_t, double>> lineWeights(double x0, double h, size_t n
 // piece between nodes the integrand is quadratic, so two Gauss points per piece are exact.
 std::vector<std::pair<size_t, double>> lineFirstMoments(double x0, double h, size_t n, double a, double b) {
   std::vector<std::pair<size_t, double>> w;
-  const long i0 = std::max<long>(0, static_cast<long>(std::floor((a - x0) / h)) - 1);
-  const long i1 = std::min<long>(static_cast<long>(n), static_cast<long>(std::ceil((b - x0) / h)) + 1);
+  const auto [i0, i1] = nodesAround(x0, h, n, a, b);
   const double g = 0.5 / std::sqrt(3.0);
   for (long i = i0; i <= i1; ++i) {
     const double xi = x0 + h * static_cast<double>(i);
@@ -122,8 +126,7 @@ LoadableRegion loadableRegion(const Solver& solver, const AbsorbingFaces& faces)
 }
 
 bool footprintInsideMesh(const StructuredMesh& m, double x_m, const TrackLayout& layout) {
-  const double hl = 0.5 * layout.length_m, hw = 0.5 * layout.width_m;
-  return x_m - hw >= m.x0 - 1e-9 && x_m + hw <= m.xMax() + 1e-9 && -hl >= m.y0 - 1e-9 && hl <= m.yMax() + 1e-9;
+  return LoadableRegion{m.x0, m.xMax(), m.y0, m.yMax(), 0.0}.holds(x_m, layout);
 }
 
 }  // namespace railvib::soil
