@@ -5,7 +5,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "railvib/soil/soil_params.hpp"
 #include "railvib/track/track_model.hpp"
 
 namespace railvib::coupling {
@@ -43,10 +42,6 @@ std::vector<std::complex<double>> feSoilReceptance(const track::TrackParams& tra
   return track::receptanceOnGround(
       model, x_m, frequencies_hz,
       feSoilGround(soil, rigid.layout.spacing_m, static_cast<size_t>(model.sleeperCount()), reach_sleepers));
-}
-
-soil::FootprintCompliance scenarioFootprintCompliance(const Config& cfg, const soil::FootprintComplianceSpec& spec) {
-  return soil::FootprintCompliance(soil::loadSoilParams(cfg.root()), spec);
 }
 
 }  // namespace railvib::coupling

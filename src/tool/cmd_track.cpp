@@ -138,12 +138,13 @@ int runReceptance(const std::vector<std::string>& argv) {
       if (r != std::floor(r) || r > 1e6) throw ArgError("--reach must be a whole number of sleepers");
       reach = static_cast<size_t>(r);
     }
-    const double f_max = soil::loadSoilParams(cfg.root()).mesh.f_max_hz;
+    const soil::SoilParams soil_params = soil::loadSoilParams(cfg.root());
+    const double f_max = soil_params.mesh.f_max_hz;
     if (fmax > f_max * (1.0 + 1e-9)) {
       throw ArgError("--fmax " + fmt(fmax) + " Hz is above the soil mesh's f_max " + fmt(f_max) +
                      " Hz (soil.mesh.f_max_hz): the FE soil does not resolve it");
     }
-    soil = std::make_unique<soil::FootprintCompliance>(coupling::scenarioFootprintCompliance(cfg, spec));
+    soil = std::make_unique<soil::FootprintCompliance>(soil_params, spec);
   }
   if (base.width == track::TrackWidth::Half && (loading == RailLoading::Right || loading == RailLoading::AntiPhase)) {
     throw ArgError("--load " + load_name + " needs both rails: --set track.width=full (the half track has one rail)");

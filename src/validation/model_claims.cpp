@@ -14,6 +14,7 @@
 #include "railvib/building/response.hpp"
 #include "railvib/coupling/track_on_soil.hpp"
 #include "railvib/soil/footprint_compliance.hpp"
+#include "railvib/soil/soil_params.hpp"
 #include "railvib/track/track_analysis.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/validation/validation.hpp"
@@ -227,7 +228,8 @@ void rigorousTrackClaims(const Config& cfg, const ValidationOptions& opt, std::v
     return;
   }
   const track::TrackParams base = track::loadTrackParams(cfg.root());
-  const soil::FootprintCompliance soil = coupling::scenarioFootprintCompliance(cfg, soil::FootprintComplianceSpec{});
+  const soil::FootprintCompliance soil =
+      soil::FootprintCompliance(soil::loadSoilParams(cfg.root()), soil::FootprintComplianceSpec{});
   const track::TrackModel probe(base);
   const double x0 = probe.sleeperPositions()[static_cast<size_t>(probe.nearestSleeper(0.0))];
   std::vector<double> f;

@@ -9,10 +9,8 @@
 #include <complex>
 #include <cstddef>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <vector>
 
-#include "railvib/common/config.hpp"
 #include "railvib/soil/footprint_compliance.hpp"
 #include "railvib/track/track_analysis.hpp"
 
@@ -29,13 +27,11 @@ track::GroundCompliance feSoilGround(const soil::FootprintCompliance& soil, doub
 /// The rail receptance at x_m of the scenario's track (rail, railpads, sleepers, ballast: the
 /// `track` section, half width) on the FE soil of the same scenario (the `soil` section: layers,
 /// mesh, boundary, damping), for the frequencies given (up to the mesh's f_max). The soil run is
-/// the expensive part (a minute on the Haren mesh): pass it in to reuse it.
+/// the expensive part (a minute on the Haren mesh): build it once, soil::FootprintCompliance(
+/// soil::loadSoilParams(root), spec), and pass it in.
 std::vector<std::complex<double>> feSoilReceptance(const track::TrackParams& track,
                                                    const soil::FootprintCompliance& soil, double x_m,
                                                    const std::vector<double>& frequencies_hz,
                                                    size_t reach_sleepers = std::numeric_limits<size_t>::max());
-
-/// The soil run of a scenario for feSoilReceptance: its soil parameters (loadSoilParams) and the spec.
-soil::FootprintCompliance scenarioFootprintCompliance(const Config& cfg, const soil::FootprintComplianceSpec& spec);
 
 }  // namespace railvib::coupling
