@@ -583,24 +583,21 @@ int soilRun(const std::vector<std::string>& args) {
                                formatValue(limits.soil_load_n) + " N a sleeper load may be (limits.soil_load_n)");
     }
   }
-  // A full-width passage gives each rail seat's force: columns <sleeper>_left, <sleeper>_right, in pairs.
-  auto endsWith = [](const std::string& text, const std::string& tail) {
-    return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+  // A full-width passage gives each rail seat's force: a pair of columns per sleeper (railColumn).
+  const std::string left_tail = railColumn("", track::Rail::Left);
+  auto baseOfLeft = [&](const std::string& column) -> std::optional<std::string> {
+    if (column.size() < left_tail.size() ||
+        column.compare(column.size() - left_tail.size(), left_tail.size(), left_tail))
+      return std::nullopt;
+    return column.substr(0, column.size() - left_tail.size());
   };
-  const size_t seats = endsWith(loads.columns[1], "_left") ? 2 : 1;
-  if (seats == 2) {
-    for (size_t c = 1; c < loads.columns.size(); ++c) {
-      const char* tail = c % 2 == 1 ? "_left" : "_right";
-      if (!endsWith(loads.columns[c], tail) ||
-          (c % 2 == 0 && loads.columns[c].substr(0, loads.columns[c].size() - 6) !=
-                             loads.columns[c - 1].substr(0, loads.columns[c - 1].size() - 5))) {
-        throw std::runtime_error(p.get("loads") + ": column " + std::to_string(c + 1) + " '" + loads.columns[c] +
-                                 "': rail seat columns come in pairs <sleeper>_left, <sleeper>_right");
-      }
+  const size_t seats = baseOfLeft(loads.columns[1]) ? 2 : 1;
+  for (size_t c = 1; seats == 2 && c < loads.columns.size(); c += 2) {
+    const std::optional<std::string> base = baseOfLeft(loads.columns[c]);
+    if (!base || c + 1 >= loads.columns.size() || loads.columns[c + 1] != railColumn(*base, track::Rail::Right)) {
+      throw std::runtime_error(p.get("loads") + ": column " + std::to_string(c + 1) + " '" + loads.columns[c] +
+                               "': rail seat columns come in pairs <sleeper>_left, <sleeper>_right");
     }
-  }
-  if ((loads.columns.size() - 1) % seats != 0) {
-    throw std::runtime_error(p.get("loads") + ": the rail seat columns do not pair up");
   }
   const size_t ns = (loads.columns.size() - 1) / seats;
   // Rail seats at +-rail_gauge / 2 (left = +y, the building's side), as the full-width track has them.

@@ -214,8 +214,7 @@ class PassageCsv {
       if (seats_ == 1) {
         cols.push_back(name.str());
       } else {
-        cols.push_back(name.str() + "_left");
-        cols.push_back(name.str() + "_right");
+        for (track::Rail rail : {track::Rail::Left, track::Rail::Right}) cols.push_back(railColumn(name.str(), rail));
       }
     }
     soil_ = std::make_unique<io::CsvWriter>(dir + "/soil_loads.csv", cols);
@@ -278,7 +277,7 @@ class PassageCsv {
       if (!model_.fullWidth()) {
         cols.push_back("axle" + std::to_string(i) + suffix);
       } else {
-        cols.push_back("axle" + std::to_string(w.axle) + (w.rail == track::Rail::Left ? "_left" : "_right") + suffix);
+        cols.push_back(railColumn("axle" + std::to_string(w.axle), w.rail) + suffix);
       }
     }
     return cols;

@@ -8,6 +8,7 @@
 
 #include "railvib/common/args.hpp"
 #include "railvib/common/config.hpp"
+#include "railvib/track/track_model.hpp"
 
 namespace railvib::tool {
 
@@ -24,6 +25,12 @@ bool parseWithCase(ArgParser& parser, const std::vector<std::string>& args, std:
 /// `extra_overrides` (a command's own options, e.g. --foundation) on top, and validate the whole
 /// scenario (scenario::validateScenario: every section, cross-checks, unknown keys).
 Config loadConfig(const ArgParser& parser, const std::vector<std::string>& extra_overrides = {});
+
+/// A full-width track's column of one rail (a wheel's, a rail seat's) in the CSV files the tools write
+/// and read: `base` + "_left" (y > 0, the building's side) or "_right".
+inline std::string railColumn(const std::string& base, track::Rail rail) {
+  return base + (rail == track::Rail::Left ? "_left" : "_right");
+}
 
 /// Print a JSON summary on stdout (indented).
 inline void printJson(const nlohmann::json& summary) { std::cout << summary.dump(2) << std::endl; }

@@ -186,6 +186,15 @@ class Cases:
         peak = max(abs(float(row[c])) for row in r for c in cols)
         worst = max(abs(float(a[c]) - float(b[c])) for a, b in zip(r, fr) for c in cols)
         check(len(fr) == len(r) and worst < 1e-4 * peak, f"full-width soil vs half: {worst} of a {peak} m/s peak")
+        # Rail seat columns that do not pair up (a left seat without its right one, a pair of two sleepers) are refused.
+        header = list(rows(self.passage_full_dir / "soil_loads.csv")[0])
+        for bad_header in (header[:2], ["t_s", header[1], header[4]]):
+            bad_path = WORK / "soil_loads_unpaired.csv"
+            bad_path.write_text(",".join(bad_header) + "\n" + ",".join(["0"] * len(bad_header)) + "\n" +
+                                ",".join(["0.0005"] + ["0"] * (len(bad_header) - 1)) + "\n")
+            out = subprocess.run([self.tool, "soil", "--config", CI, "--loads", str(bad_path), "--out",
+                                  str(WORK / "soil_bad"), "--duration", "0.001"], capture_output=True, text=True)
+            check(out.returncode != 0 and "come in pairs" in out.stderr, (bad_header, out.stderr))
 
     def soil_bench(self):
         s = self.run("soil-bench", "throughput", "--nx", 16, "--ny", 8, "--nz", 4, "--steps", 3, "--repeat", 1,
