@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -170,15 +171,12 @@ void TrackNewmark::setConvectedStaticState(const std::vector<PointLoad>& loads, 
   }
   // sleeper heave, the base under each rail seat and (full width) the sleeper roll
   const std::vector<double>& xs = m.sleeperPositions();
-  for (int family = 0; family < 4; ++family) {
-    if (family >= 1 && family - 1 >= m.railCount() && family != 3) continue;
+  std::vector<std::function<Eigen::Index(int)>> families{[&](int s) { return m.sleeperDof(s); }};
+  for (int r = 0; r < m.railCount(); ++r) families.push_back([&, r](int s) { return m.baseDof(s, rails[r]); });
+  if (m.railCount() == 2) families.push_back([&](int s) { return m.sleeperRollDof(s); });
+  for (const auto& dof : families) {
     vals.assign(xs.size(), 0.0);
     bool present = true;
-    const auto dof = [&](int s) {
-      if (family == 0) return m.sleeperDof(s);
-      if (family == 3) return m.railCount() == 2 ? m.sleeperRollDof(s) : Eigen::Index{-1};
-      return m.baseDof(s, rails[family - 1]);
-    };
     for (int s = 0; s < m.sleeperCount(); ++s) {
       const Eigen::Index d = dof(s);
       if (d < 0) present = false;
