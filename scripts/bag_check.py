@@ -52,10 +52,11 @@ TYPES = {
     "/tf": "tf2_msgs/TFMessage",
     "/tf_static": "tf2_msgs/TFMessage",
 }
-# Per stream: its point count field and its arrays (name, values per point).
+# Per stream: its point count field and its arrays (name, values per point: a number, or the block's
+# field that says it, e.g. a full-width track's rail seats per sleeper).
 ARRAYS = {
     names.CONTACT_FORCES: ("wheel_count", [("position_m", 1), ("force_n", 1), ("unevenness_m", 1)]),
-    names.SOIL_LOADS: ("sleeper_count", [("force_n", 1)]),
+    names.SOIL_LOADS: ("sleeper_count", [("force_n", "seats_per_sleeper")]),
     names.SURFACE_VELOCITIES: ("receiver_count", [("velocity_m_s", 3)]),
     names.BUILDING_RESPONSE: ("point_count", [("velocity_m_s", 3)]),
     names.SENSOR_SAMPLES: ("sensor_count", [("velocity_m_s", 3), ("acceleration_m_s2", 3)]),
@@ -109,8 +110,13 @@ def _check_stream(bag, topic, result):
             return
         period = m.sample_period_s
         points = getattr(m, count_field)
-        for field, per_point in arrays:
+        for field, per_point_spec in arrays:
             values = getattr(m, field)
+            per_point = getattr(m, per_point_spec) if isinstance(per_point_spec, str) else per_point_spec
+            if isinstance(per_point_spec, str) and per_point not in (1, 2):
+                result.refused = (f"{topic}: block at sample {m.first_sample_index}: {per_point_spec} = {per_point}, "
+                                  "not 1 (one force per sleeper) or 2 (a force per rail seat)")
+                return
             if len(values) != m.sample_count * points * per_point:
                 result.refused = (f"{topic}: block at sample {m.first_sample_index}: {field} has {len(values)} values, "
                                   f"not sample_count x {count_field} x {per_point} = "

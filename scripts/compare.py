@@ -8,7 +8,8 @@ Any two runs (e.g. two speeds, CLM vs Winkler, a study's runs): when either bag 
 (default: BAG_B without .bag + "_vs_" + BAG_A's name) gets
   sensors.png   each sensor both runs have: v_z of A and B, its Fourier transform magnitude and KB_F(t);
   compare.md    per sensor and run: PPV_z, vector PPV, KB_Fmax, dominant frequency of v_z (from
-                `railvib_tool metrics`, the core's code), and B - A, B / A; compare.json the same.
+                `railvib_tool metrics`, the core's code), and B - A, B / A; the contact forces of the
+                wheels both runs have (static, min, max); compare.json the same.
 When both have the house, the house's effect (FREE_BAG = A, HOUSE_BAG = B):
 
 FREE_BAG:  a run whose soil does not see the house (building.coupling: one_way; its receiver at the
@@ -87,6 +88,14 @@ class SensorRun:
             self.t = np.arange(len(self.v)) * self.dt
             scenario, _ = report.scenario_record(bag)
             self.mesh_f_max_hz = report.config_number((scenario or {}).get("config"), "soil.mesh.f_max_hz")
+            # The wheels' contact forces (when recorded): name, static (first sample), min and max per wheel.
+            self.wheels = []
+            cf = report.read_stream(bag, names.CONTACT_FORCES)
+            if cf:
+                nw = cf[0].wheel_count
+                f = report.stacked(cf, "force_n", nw)
+                wheel, _ = report.wheel_names((scenario or {}).get("config"), nw, list(cf[0].wheel_rail))
+                self.wheels = [(wheel[w], f[0, w], f[:, w].min(), f[:, w].max()) for w in range(nw)]
 
     def has_house(self):
         return all(f in self.sensors for f in FLOORS)
@@ -136,10 +145,28 @@ def compare_sensors(a, b, name_a, name_b, outdir):
             x, y = r["a"][q], r["b"][q]
             ratio = f"{y / x:.3f}" if x else "-"
             lines.append(f"| {sensor} | {q} | {x:.4g} | {y:.4g} | {y - x:+.4g} | {ratio} |")
+    wheels = {}
+    if a.wheels and b.wheels:
+        # Side by side by wheel name: the half and the full width name their wheels differently
+        # (axle / axle and rail), so only the wheels both runs have are listed.
+        b_of = {w[0]: w for w in b.wheels}
+        lines += ["", "Contact forces per wheel, kN (static: the first sample):", "",
+                  "| wheel | static A | static B | min A | min B | max A | max B | max B / A |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for name, static, low, high in a.wheels:
+            if name not in b_of:
+                continue
+            _, static_b, low_b, high_b = b_of[name]
+            wheels[name] = {"a": {"static_n": static, "min_n": low, "max_n": high},
+                            "b": {"static_n": static_b, "min_n": low_b, "max_n": high_b}}
+            lines.append(f"| {name} | {static / 1e3:.2f} | {static_b / 1e3:.2f} | {low / 1e3:.2f} | {low_b / 1e3:.2f} "
+                         f"| {high / 1e3:.2f} | {high_b / 1e3:.2f} | {high_b / high:.3f} |")
+        if not wheels:
+            lines.append("(no wheel of the same name in both runs)")
     lines += ["", "![sensors](sensors.png)"]
     (outdir / "compare.md").write_text("\n".join(lines) + "\n")
     (outdir / "compare.json").write_text(json.dumps({"bag_a": name_a, "bag_b": name_b, "figures": ["sensors.png"],
-                                                     "sensors": rows}, indent=1))
+                                                     "sensors": rows, "contact_forces": wheels}, indent=1))
     print(f"railvib compare: {outdir / 'compare.md'} (sensors of two runs)")
     return 0
 
@@ -177,6 +204,14 @@ class Run:
             # The soil mesh's resolved frequency, marked on the spectra (None for a bag without the record).
             scenario, _ = report.scenario_record(bag)
             self.mesh_f_max_hz = report.config_number((scenario or {}).get("config"), "soil.mesh.f_max_hz")
+            # The wheels' contact forces (when recorded): name, static (first sample), min and max per wheel.
+            self.wheels = []
+            cf = report.read_stream(bag, names.CONTACT_FORCES)
+            if cf:
+                nw = cf[0].wheel_count
+                f = report.stacked(cf, "force_n", nw)
+                wheel, _ = report.wheel_names((scenario or {}).get("config"), nw, list(cf[0].wheel_rail))
+                self.wheels = [(wheel[w], f[0, w], f[:, w].min(), f[:, w].max()) for w in range(nw)]
             self.section_t, self.section = [], []
             for _, m, _ in bag.read_messages(topics=[names.SECTION_SNAPSHOT]):
                 if len(m.vertical_velocity_m_s) != m.ny * len(m.depth_m):

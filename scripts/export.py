@@ -6,7 +6,9 @@ usage: ./railvib export BAG [OUTDIR] [--what csv,mat,vtk,house] [--every N]
 Writes into OUTDIR (default: BAG without .bag + "_export"):
   csv/<stream>.csv      one row per sample, one column per channel (t_s first), for Excel or MATLAB:
                           contact_forces      wheel<k>_position_m, wheel<k>_force_n, wheel<k>_unevenness_m
-                          soil_loads          sleeper<k>_force_n (positions in csv/sleeper_layout.csv)
+                                              (full width: a wheel per rail, axle-major, the left first)
+                          soil_loads          sleeper<k>_force_n (positions in csv/sleeper_layout.csv; full
+                                              width: sleeper<k>_left_force_n, sleeper<k>_right_force_n)
                           surface_velocities  <receiver>_v{x,y,z}_m_s (positions in csv/surface_points.csv)
                           building_response   <point>_v{x,y,z}_m_s (positions in csv/building_points.csv)
                           sensor_samples      <sensor>_v{x,y,z}_m_s, <sensor>_a{x,y,z}_m_s2
@@ -93,10 +95,14 @@ def read_streams(bag):
     sl = report.read_stream(bag, names.SOIL_LOADS)
     if sl:
         s = Stream(names.SOIL_LOADS, sl)
-        ns = sl[0].sleeper_count
-        force = report.stacked(sl, "force_n", ns)
+        ns, seats = sl[0].sleeper_count, sl[0].seats_per_sleeper
+        force = report.stacked(sl, "force_n", ns * seats)  # [sample][sleeper][seat]
         for k in range(ns):
-            s.columns.append((f"sleeper{k + 1}_force_n", force[:, k]))
+            if seats == 1:
+                s.columns.append((f"sleeper{k + 1}_force_n", force[:, k]))
+            else:
+                for seat in range(seats):
+                    s.columns.append((f"sleeper{k + 1}_{report.RAIL_NAMES[seat]}_force_n", force[:, k * seats + seat]))
         s.arrays["force_n"] = force
         streams.append(s)
         for _, m, _ in bag.read_messages(topics=[names.SLEEPER_LAYOUT]):

@@ -351,13 +351,32 @@ _LIVE_OF_REASON = [("KB_Fmax <= A_u", 0), ("KB_Fmax > A_o", 2), ("A_u < KB_Fmax"
 
 
 # ------------------------------------------------------------------ vehicle, defect, house
-def wheel_names(config, n):
-    """Names of the n wheels (wheel 0 = front axle): the vehicle's axle names if recorded, else axle 1..n."""
+RAIL_NAMES = ("left", "right")  # ContactForces.wheel_rail codes: 0 = LEFT, 1 = RIGHT
+
+
+def wheel_names(config, n, wheel_rail=None):
+    """Names of the n wheels (wheel 0 = front axle): the vehicle's axle names if recorded, else axle 1..n;
+    at full width (ContactForces.wheel_rail holds a right rail: a wheel per rail, axle-major) the axle's name
+    and the wheel's rail."""
+    rails = list(wheel_rail or [])
+    full_width = len(rails) == n and any(r == 1 for r in rails)
+    axles = n // 2 if full_width else n
     vehicle = config_value(config, "vehicle.name")
     wheels = config_value(config, f"vehicles.{vehicle}.wheels") if isinstance(vehicle, str) else None
-    if isinstance(wheels, list) and len(wheels) == n and all(isinstance(w, dict) and "name" in w for w in wheels):
-        return [str(w["name"]) for w in wheels], f"vehicles.{vehicle}.wheels of the scenario record"
-    return [f"axle {i + 1}" for i in range(n)], "axle 1..N from the front (no axle names in the scenario record)"
+    if isinstance(wheels, list) and len(wheels) == axles and all(isinstance(w, dict) and "name" in w for w in wheels):
+        axle_names, how = [str(w["name"]) for w in wheels], f"vehicles.{vehicle}.wheels of the scenario record"
+    else:
+        axle_names, how = [f"axle {i + 1}" for i in range(axles)], \
+            "axle 1..N from the front (no axle names in the scenario record)"
+    if not full_width:
+        return axle_names, how
+    return [f"{axle_names[w // 2]} {RAIL_NAMES[rails[w]]}" for w in range(n)], how + ", a wheel per rail"
+
+
+def defect_rails(config):
+    """The rails the defect lies on (unevenness.defect.rails: both, left or right; absent: both)."""
+    rails = config_value(config, "unevenness.defect.rails") if config is not None else None
+    return {"left": (0,), "right": (1,)}.get(rails, (0, 1))
 
 
 def defect_position_m(config):
@@ -553,8 +572,13 @@ def main(argv):
             f = stacked(cf, "force_n", nw)
             x = stacked(cf, "position_m", nw)
             t = np.arange(len(f)) * cf[0].sample_period_s
-            wheel, wheel_how = wheel_names(config, nw)
+            wheel_rail = list(cf[0].wheel_rail)
+            wheel, wheel_how = wheel_names(config, nw, wheel_rail)
             impacts, impact_how, x_defect = impact_times_s(t, f, x, config)
+            if len(wheel_rail) == nw and x_defect is not None:
+                # a wheel on a rail without the pad passes the defect's position but meets no pad
+                on_pad = defect_rails(config)
+                impacts = [ti if wheel_rail[w] in on_pad else None for w, ti in enumerate(impacts)]
             contact_forces_figure(t, f, wheel, impacts, impact_how, outdir)
             figures.append("contact_forces.png")
             shown["contact_forces"] = {"wheel_names": wheel, "impact_times_s": impacts, "impact_source": impact_how,
@@ -566,7 +590,9 @@ def main(argv):
                       "| wheel | axle | static [kN] | min [kN] | max [kN] | on the defect at [s] |",
                       "|---|---|---|---|---|---|"]
             for w in range(nw):
-                at = f"{impacts[w]:.4f}" if impacts[w] is not None else "not in the record"
+                at = f"{impacts[w]:.4f}" if impacts[w] is not None else (
+                    "no pad on its rail" if len(wheel_rail) == nw and x_defect is not None
+                    and wheel_rail[w] not in defect_rails(config) else "not in the record")
                 lines.append(f"| {w} | {wheel[w]} | {f[0, w] / 1e3:.2f} | {f[:, w].min() / 1e3:.2f} | "
                              f"{f[:, w].max() / 1e3:.2f} | {at} |")
             lines.append("")

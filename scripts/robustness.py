@@ -386,7 +386,9 @@ def bag_cases():
                      [("position_m", 1), ("force_n", 1), ("unevenness_m", 1)], "wheel_count")
 
     def sl(first, count, eos):
-        return block(rm.SoilLoads, first, count, 3, eos, 5e-4, [("force_n", 1)], "sleeper_count")
+        m = block(rm.SoilLoads, first, count, 3, eos, 5e-4, [("force_n", 1)], "sleeper_count")
+        m.seats_per_sleeper = 1  # the half track: one force per sleeper
+        return m
 
     def bag(name, messages, status="closed: all streams complete",
             expected=(names.CONTACT_FORCES, names.SOIL_LOADS)):

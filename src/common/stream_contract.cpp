@@ -102,6 +102,21 @@ void validateBlock(const BlockContract& c, const BlockHead& h, std::initializer_
   }
 }
 
+void validatePointCodes(const BlockContract& c, const char* field, const std::vector<uint8_t>& codes,
+                        const std::vector<uint8_t>& expected, const std::string& expected_source) {
+  if (codes.size() != expected.size()) {
+    refuse(c.stream, std::string(field) + " has " + std::to_string(codes.size()) + " values, not one per " +
+                         c.point_label + " (" + std::to_string(expected.size()) + ", " + expected_source + ")");
+  }
+  for (size_t i = 0; i < codes.size(); ++i) {
+    if (codes[i] != expected[i]) {
+      refuse(c.stream, std::string(field) + "[" + std::to_string(i) + "] = " + std::to_string(codes[i]) + ": " +
+                           expected_source + " has " + std::to_string(expected[i]) + " for " + c.point_label + " " +
+                           std::to_string(i));
+    }
+  }
+}
+
 void validatePointLayout(const std::string& topic, const std::vector<std::string>& names, size_t positions,
                          const std::vector<double>& coordinates, uint32_t max_points) {
   if (names.empty() || names.size() > max_points) {

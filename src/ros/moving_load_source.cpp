@@ -4,6 +4,7 @@
 
 #include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/ros/wheel_rails.hpp"
 #include "railvib/vehicle/vehicle_model.hpp"
 
 namespace railvib::ros_io {
@@ -16,8 +17,14 @@ MovingLoadSourceNode::MovingLoadSourceNode(ros::NodeHandle& nh, ros::NodeHandle&
   source_.front_start_m = run.front_axle_start_m;
   source_.speed_m_s = run.speed_m_s;
   const vehicle::VehicleModel vehicle_model(vehicle::loadVehicleParams(config.root()));
-  source_.offsets_behind_m = vehicle_model.params().axleOffsets();
-  source_.forces_n = vehicle::uniformStaticWheelLoadsPerRail(vehicle_model);
+  // Each wheel's share of the weight on its rail (the weight per rail shared by the axles), on its rail.
+  const std::vector<double> per_axle = vehicle::uniformStaticWheelLoadsPerRail(vehicle_model);
+  for (const vehicle::WheelInfo& w : vehicle_model.wheels()) {
+    source_.offsets_behind_m.push_back(w.offset_m);
+    source_.forces_n.push_back(per_axle.at(static_cast<size_t>(w.axle)));
+  }
+  source_.rails = vehicle_model.wheelRails();
+  wheel_rail_ = wheelRailCodes(source_.rails);
   int block_samples = 1000;
   int required_subscribers = 1;
   private_nh.param("block_samples", block_samples, block_samples);
@@ -38,6 +45,7 @@ void MovingLoadSourceNode::run() {
     block.sample_period_s = dt_s_;
     block.sample_count = static_cast<uint32_t>(count);
     block.wheel_count = static_cast<uint32_t>(wheels);
+    block.wheel_rail = wheel_rail_;
     block.position_m.reserve(count * wheels);
     block.force_n.reserve(count * wheels);
     block.unevenness_m.assign(count * wheels, 0.0);

@@ -15,10 +15,14 @@
 namespace railvib::ros_io {
 
 const std::vector<std::pair<std::string, std::string>>& launchArgumentKeys() {
-  static const std::vector<std::pair<std::string, std::string>> keys{
-      {"speed", "simulation.speed_m_s"},        {"duration", "simulation.duration_s"},
-      {"foundation", "track.foundation.model"}, {"track", "simulation.vehicle_track"},
-      {"coupling", "building.coupling"},        {"vehicle", "vehicle.name"}};
+  static const std::vector<std::pair<std::string, std::string>> keys{{"speed", "simulation.speed_m_s"},
+                                                                     {"duration", "simulation.duration_s"},
+                                                                     {"foundation", "track.foundation.model"},
+                                                                     {"track", "simulation.vehicle_track"},
+                                                                     {"coupling", "building.coupling"},
+                                                                     {"vehicle", "vehicle.name"},
+                                                                     {"width", "track.width"},
+                                                                     {"defect_rails", "unevenness.defect.rails"}};
   return keys;
 }
 

@@ -153,7 +153,11 @@ visualization_msgs::MarkerArray SceneVisualizer::siteMarkers(const Config& confi
         case vehicle::BodyKind::Tread:
         case vehicle::BodyKind::Wheel: {
           const double radius_m = model.wheels().at(static_cast<size_t>(body.index)).radius_m;
-          for (const double y : {-half_gauge_m, half_gauge_m}) {
+          // The body of one side at full width (its frame at its rail) has one wheel; a half vehicle's
+          // or a centre-line wheelset's frame is on the centre line, with a wheel on each rail.
+          const bool one_side = model.fullWidth() && body.y_m != 0.0;
+          for (const double y :
+               one_side ? std::vector<double>{0.0} : std::vector<double>{-half_gauge_m, half_gauge_m}) {
             Marker wheel = marker(frame, "tram_wheels", id++, Marker::CYLINDER);
             wheel.pose.position.y = y;
             // Cylinder axis (z) turned onto y.

@@ -32,6 +32,7 @@ struct SoilSetup {
   soil::SoilParams params;
   std::vector<soil::RigidBodySpec> bodies;  // a two-way house's foundation
   double load_sample_rate_hz = 0.0;
+  std::vector<double> rail_seat_y_m;  // the rail seats whose forces come one by one (none: half track)
 };
 
 SoilSetup soilSetup(const ConfigNode& root, bool include_footprint) {
@@ -39,7 +40,9 @@ SoilSetup soilSetup(const ConfigNode& root, bool include_footprint) {
   s.params = soil::loadSoilParams(root, coupling::houseReceivers(root, include_footprint));
   // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
   if (include_footprint) s.bodies = coupling::attachedBodies(root, s.params);
-  s.load_sample_rate_hz = track::loadTrackParams(root).load_sample_rate_hz;
+  const track::TrackParams track_params = track::loadTrackParams(root);
+  s.load_sample_rate_hz = track_params.load_sample_rate_hz;
+  s.rail_seat_y_m = track::soilRailSeatPositions(track_params);
   return s;
 }
 
@@ -50,8 +53,8 @@ soil::SoilDriver::Factory SoilNode::modelFactory() {
     const YAML::Node s = YAML::Load(setup);
     const Config config = Config::fromString(s["config"].as<std::string>(), s["config_file"].as<std::string>());
     const SoilSetup soil_setup = soilSetup(config.root(), s["include_building_footprint"].as<bool>());
-    return std::make_unique<soil::SoilModel>(soil_setup.params, sleeper_x_m, soil_setup.load_sample_rate_hz,
-                                             soil_setup.bodies, std::move(comm));
+    return std::make_unique<soil::SoilModel>(soil_setup.params, sleeper_x_m, soil_setup.rail_seat_y_m,
+                                             soil_setup.load_sample_rate_hz, soil_setup.bodies, std::move(comm));
   };
 }
 
@@ -75,6 +78,7 @@ SoilNode::SoilNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, std::shared
   const SoilSetup setup = soilSetup(config.root(), include_footprint);
   params_ = setup.params;
   load_sample_rate_hz_ = setup.load_sample_rate_hz;
+  rail_seat_y_m_ = setup.rail_seat_y_m;
   setup_ = setupText(config, include_footprint);
   if (include_footprint) {
     for (const std::string& note : scenario::soilSensorsOnTheFoundation(config.root(), params_.receivers))
@@ -117,6 +121,20 @@ void SoilNode::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
         throw StreamContractError("stream " + topic + ": position_m[" + std::to_string(i) +
                                   "] = " + formatValue(layout->position_m[i]) + " m, the track config puts it at " +
                                   formatValue(expected[i]) + " m");
+      }
+    }
+    // The rail seats whose forces SoilLoads carries one by one: the config's (none for the half track).
+    if (layout->rail_seat_y_m.size() != rail_seat_y_m_.size()) {
+      throw StreamContractError(
+          "stream " + topic + ": " + std::to_string(layout->rail_seat_y_m.size()) +
+          " rail seats (rail_seat_y_m), the track config (track.width = " + (rail_seat_y_m_.empty() ? "half" : "full") +
+          ") has " + std::to_string(rail_seat_y_m_.size()));
+    }
+    for (size_t i = 0; i < rail_seat_y_m_.size(); ++i) {
+      if (!(std::abs(layout->rail_seat_y_m[i] - rail_seat_y_m_[i]) <= 1e-9)) {
+        throw StreamContractError("stream " + topic + ": rail_seat_y_m[" + std::to_string(i) + "] = " +
+                                  formatValue(layout->rail_seat_y_m[i]) + " m, the track config puts the seat at " +
+                                  formatValue(rail_seat_y_m_[i]) + " m (site.rail_gauge_m / 2)");
       }
     }
     driver_.create(setup_, layout->position_m);
@@ -162,10 +180,18 @@ void SoilNode::consume(const railvib::SoilLoads& msg) {
   contract.point_count = static_cast<uint32_t>(model.sleeperCount());
   contract.point_source = "the sleeper_layout";
   contract.max_block_samples = limits_.max_block_samples;
+  const uint32_t seats = static_cast<uint32_t>(model.loadsPerSleeper());
+  if (msg.seats_per_sleeper != seats) {
+    throw StreamContractError("stream " + contract.stream + ": seats_per_sleeper = " +
+                              std::to_string(msg.seats_per_sleeper) + ": the sleeper_layout has " +
+                              (seats == 1 ? std::string("no rail seats (half track: one force per sleeper)")
+                                          : std::to_string(seats) + " rail seats per sleeper") +
+                              " (block at sample " + std::to_string(msg.first_sample_index) + ")");
+  }
   validateBlock(
       contract,
       {msg.first_sample_index, msg.end_of_stream != 0, msg.sample_period_s, msg.sample_count, msg.sleeper_count},
-      {{"force_n", &msg.force_n, 1, limits_.soil_load_n, "limits.soil_load_n", "N"}});
+      {{"force_n", &msg.force_n, seats, limits_.soil_load_n, "limits.soil_load_n", "N"}});
   driver_.pushLoads(msg.first_sample_index, msg.force_n.data(), msg.sample_count);
   status_->countSamples("soil_loads in", msg.sample_count);
   if (msg.end_of_stream) {

@@ -6,6 +6,8 @@
 #include "railvib/common/names.hpp"
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/node_config.hpp"
+#include "railvib/ros/wheel_rails.hpp"
+#include "railvib/vehicle/vehicle_model.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
 
 namespace railvib::ros_io {
@@ -21,7 +23,10 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
                                                     run.convected_track_start ? run.speed_m_s : 0.0);
   status_ = std::make_unique<NodeStatus>(nh, "track", run.duration_s);
   limits_ = loadStreamLimits(config.root());
-  wheel_count_ = static_cast<uint32_t>(vehicle::loadVehicleParams(config.root()).axleOffsets().size());
+  // The wheels the vehicle streams and the rail under each (a wheel per rail per axle at full width).
+  wheel_rails_ = vehicle::VehicleModel(vehicle::loadVehicleParams(config.root())).wheelRails();
+  wheel_rail_codes_ = wheelRailCodes(wheel_rails_);
+  wheel_count_ = static_cast<uint32_t>(wheel_rails_.size());
 
   double block_duration_s = 0.05;
   int required_subscribers = 1;
@@ -35,13 +40,16 @@ TrackNode::TrackNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   layout.position_m = stream_->sleeperPositions();
   layout.length_m = params.layout.length_m;
   layout.width_m = params.layout.width_m;
+  layout.rail_seat_y_m = track::soilRailSeatPositions(params);
   layout_publisher_.publish(layout);
 
   loads_publisher_ = BlockPublisher<railvib::SoilLoads>(nh, names::kSoilLoadsTopic, required_subscribers);
   contact_subscriber_ = nh.subscribe(names::kContactForcesTopic, 0, &TrackNode::onContactForces, this);
-  ROS_INFO("track: %d sleepers, dt %.3g s, soil loads at %.0f Hz in blocks of %zu samples, start %s",
-           stream_->sleeperCount(), run.time_step_s, rate_hz, block_samples_,
-           run.convected_track_start ? "convected with the loads" : "at rest");
+  ROS_INFO(
+      "track: %d sleepers, %s, dt %.3g s, soil loads at %.0f Hz in blocks of %zu samples, start %s",
+      stream_->sleeperCount(),
+      stream_->soilLoadsPerSleeper() == 1 ? "half track (the soil gets both rails)" : "both rails, a load per seat",
+      run.time_step_s, rate_hz, block_samples_, run.convected_track_start ? "convected with the loads" : "at rest");
 }
 
 void TrackNode::onContactForces(const railvib::ContactForces::ConstPtr& msg) {
@@ -64,7 +72,7 @@ void TrackNode::consume(const railvib::ContactForces& block) {
   contract.count_field = "wheel_count";
   contract.point_label = "wheel";
   contract.point_count = wheel_count_;
-  contract.point_source = "the vehicle (vehicles.<name>.wheels)";
+  contract.point_source = "the vehicle (vehicles.<name>.wheels, one per rail at track.width = full)";
   contract.max_block_samples = limits_.max_block_samples;
   validateBlock(
       contract,
@@ -72,8 +80,10 @@ void TrackNode::consume(const railvib::ContactForces& block) {
       {{"position_m", &msg->position_m, 1, limits_.wheel_position_m, "limits.wheel_position_m", "m"},
        {"force_n", &msg->force_n, 1, limits_.contact_force_n, "limits.contact_force_n", "N"},
        {"unevenness_m", &msg->unevenness_m, 1, limits_.unevenness_m, "limits.unevenness_m", "m"}});
+  validatePointCodes(contract, "wheel_rail", msg->wheel_rail, wheel_rail_codes_,
+                     "the vehicle (its wheels in order, 0 = left rail, 1 = right)");
   tracker_.accept(msg->first_sample_index, msg->sample_count);
-  stream_->push(msg->sample_count, msg->wheel_count, msg->position_m.data(), msg->force_n.data(), pending_);
+  stream_->push(msg->sample_count, wheel_rails_, msg->position_m.data(), msg->force_n.data(), pending_);
   if (msg->end_of_stream) {
     stream_->flush(pending_);
     ended_ = true;
@@ -86,8 +96,9 @@ void TrackNode::consume(const railvib::ContactForces& block) {
 
 void TrackNode::publishPending(bool end_of_stream) {
   const size_t sleepers = static_cast<size_t>(stream_->sleeperCount());
+  const size_t frame = stream_->soilLoadsPerFrame();  // sleepers x seats_per_sleeper
   const size_t consumed = splitIntoBlocks(
-      pending_.size() / sleepers, block_samples_, end_of_stream, [&](size_t offset, size_t count, bool last) {
+      pending_.size() / frame, block_samples_, end_of_stream, [&](size_t offset, size_t count, bool last) {
         railvib::SoilLoads block;
         block.header.frame_id = names::kTrackFrame;
         block.header.stamp = ros::Time(static_cast<double>(next_load_index_) * stream_->loadSamplePeriod());
@@ -96,13 +107,14 @@ void TrackNode::publishPending(bool end_of_stream) {
         block.sample_period_s = stream_->loadSamplePeriod();
         block.sample_count = static_cast<uint32_t>(count);
         block.sleeper_count = static_cast<uint32_t>(sleepers);
-        block.force_n.assign(pending_.begin() + static_cast<long>(offset * sleepers),
-                             pending_.begin() + static_cast<long>((offset + count) * sleepers));
+        block.seats_per_sleeper = static_cast<uint32_t>(stream_->soilLoadsPerSleeper());
+        block.force_n.assign(pending_.begin() + static_cast<long>(offset * frame),
+                             pending_.begin() + static_cast<long>((offset + count) * frame));
         loads_publisher_.publish(block);
         status_->countSamples("soil_loads out", count);
         next_load_index_ += count;
       });
-  pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(consumed * sleepers));
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(consumed * frame));
 }
 
 }  // namespace railvib::ros_io

@@ -8,6 +8,7 @@
 #include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/ros/tram_display.hpp"
+#include "railvib/ros/wheel_rails.hpp"
 #include "railvib/track/track_model.hpp"
 
 namespace railvib::ros_io {
@@ -27,13 +28,6 @@ VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
 
   model_ = std::make_unique<vehicle::VehicleModel>(vehicle::loadVehicleParams(config.root()));
-  // The contact-force stream and its consumers (track node, soil) carry one rail: the half vehicle's
-  // wheels. The full width runs in railvib_tool passage only so far.
-  if (model_->fullWidth()) {
-    throw ConfigError(
-        "track.width = full: the vehicle node streams the half vehicle's contact forces only (the track node and the "
-        "soil take one rail); the full-width passage runs in railvib_tool passage; set track.width: half");
-  }
   const vehicle::PassageParams passage_params = vehicle::loadPassageParams(config.root());
   const track::TrackParams track_params = track::loadTrackParams(config.root());
   unevenness_ = std::make_unique<vehicle::Unevenness>(vehicle::loadUnevennessParams(config.root()),
@@ -46,9 +40,10 @@ VehicleNode::VehicleNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   tf_every_ = std::max<uint64_t>(1, static_cast<uint64_t>(std::llround(tf_period_s / passage_params.time_step_s)));
   publisher_ = BlockPublisher<railvib::ContactForces>(nh, names::kContactForcesTopic, required_subscribers);
   status_ = std::make_unique<NodeStatus>(nh, "vehicle", passage_params.duration_s);
-  ROS_INFO("vehicle: %d wheels on a %s track, dt %.3g s, %lu samples", model_->wheelCount(),
-           rigid ? "rigid" : "flexible", passage_params.time_step_s,
-           static_cast<unsigned long>(passage_->totalSamples()));
+  wheel_rail_ = wheelRailCodes(model_->wheelRails());
+  ROS_INFO("vehicle: %d wheels on %s (%s), dt %.3g s, %lu samples", model_->wheelCount(),
+           model_->fullWidth() ? "both rails" : "one rail, the half vehicle", rigid ? "rigid" : "flexible",
+           passage_params.time_step_s, static_cast<unsigned long>(passage_->totalSamples()));
 }
 
 void VehicleNode::run() {
@@ -64,6 +59,7 @@ void VehicleNode::run() {
     msg.sample_period_s = dt;
     msg.sample_count = static_cast<uint32_t>(n);
     msg.wheel_count = static_cast<uint32_t>(block.wheel_count);
+    msg.wheel_rail = wheel_rail_;
     msg.position_m = block.wheel_x_m;
     msg.force_n = block.contact_force_n;
     msg.unevenness_m = block.unevenness_m;
@@ -92,12 +88,19 @@ void VehicleNode::publishPoses(const vehicle::PassageBlock& block) {
       tf.header.frame_id = names::kTrackFrame;
       tf.child_frame_id = names::tramBodyFrame(bodies[static_cast<size_t>(b)].name);
       tf.transform.translation.x = front_x - pose.offset_m;
-      tf.transform.translation.y = 0.0;
+      // Full width: a body of one side sits at its lateral position (the half vehicle's frames stay on
+      // the centre line, where the scene draws both of its wheels).
+      tf.transform.translation.y = model_->fullWidth() ? pose.lateral_m : 0.0;
       tf.transform.translation.z =
           tramDisplayHeight(bodies[static_cast<size_t>(b)].kind, radius) - pose.vertical_displacement_m;
-      // Nose-up pitch is a negative rotation about +y (x forward, z up).
-      tf.transform.rotation.y = std::sin(-0.5 * pose.pitch_rad);
-      tf.transform.rotation.w = std::cos(-0.5 * pose.pitch_rad);
+      // Nose-up pitch is a negative rotation about +y (x forward, z up), left-side-down roll a negative
+      // rotation about +x: the quaternion of roll -phi, then pitch -theta (yaw 0).
+      const double cr = std::cos(-0.5 * pose.roll_rad), sr = std::sin(-0.5 * pose.roll_rad);
+      const double cp = std::cos(-0.5 * pose.pitch_rad), sp = std::sin(-0.5 * pose.pitch_rad);
+      tf.transform.rotation.x = sr * cp;
+      tf.transform.rotation.y = cr * sp;
+      tf.transform.rotation.z = -sr * sp;
+      tf.transform.rotation.w = cr * cp;
       transforms.push_back(tf);
     }
   }

@@ -600,11 +600,14 @@ int soilRun(const std::vector<std::string>& args) {
     }
   }
   const size_t ns = (loads.columns.size() - 1) / seats;
-  // Rail seats at +-rail_gauge / 2 (left = +y, the building's side), as the full-width track has them.
-  std::vector<double> seat_y;
-  if (seats == 2) {
-    const double a = track::loadTrackParams(root).rail_seat_offset_m;
-    seat_y = {a, -a};
+  // The rail seats of the scenario's track (none for the half track): the columns must be its.
+  const std::vector<double> seat_y = track::soilRailSeatPositions(track::loadTrackParams(root));
+  if (std::max<size_t>(1, seat_y.size()) != seats) {
+    throw std::runtime_error(p.get("loads") + ": " +
+                             (seats == 2 ? std::string("a force per rail seat (x_<position>_left/_right columns)")
+                                         : std::string("one force per sleeper (x_<position> columns)")) +
+                             ", but the scenario's track.width is " + (seat_y.empty() ? "half" : "full") +
+                             ": run soil with the track.width of the passage that wrote the loads");
   }
   std::vector<double> sleeper_x;
   std::string sleeper_file = p.get("sleepers") == "auto" ? "" : p.get("sleepers");

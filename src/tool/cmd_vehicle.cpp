@@ -235,24 +235,11 @@ class PassageCsv {
       writeRow(unevenness_, block.time_s[k], block.unevenness_m, k);
     }
     if (!decimator_) return;
-    if (block.rail_seat_count == 1) {
-      soil_in_.resize(block.ballast_force_n.size());
-      for (size_t k = 0; k < soil_in_.size(); ++k)
-        soil_in_[k] = track::kHalfTrackRailsOnSoil * block.ballast_force_n[k];
-    } else {
-      // full width: each rail seat's force, [sample][sleeper][seat] (the block holds [sample][seat][sleeper])
-      if (static_cast<size_t>(block.rail_seat_count) != seats_) {
-        throw std::logic_error("passage: a block with " + std::to_string(block.rail_seat_count) + " rail seats, " +
-                               std::to_string(seats_) + " expected");
-      }
-      soil_in_.resize(block.sampleCount() * ns_ * seats_);
-      for (size_t k = 0; k < block.sampleCount(); ++k) {
-        for (size_t seat = 0; seat < seats_; ++seat) {
-          for (size_t s = 0; s < ns_; ++s)
-            soil_in_[(k * ns_ + s) * seats_ + seat] = block.ballast_force_n[(k * seats_ + seat) * ns_ + s];
-        }
-      }
+    if (static_cast<size_t>(block.rail_seat_count) != seats_) {
+      throw std::logic_error("passage: a block with " + std::to_string(block.rail_seat_count) + " rail seats, " +
+                             std::to_string(seats_) + " expected");
     }
+    track::soilLoadFrames(block.ballast_force_n, ns_, seats_, soil_in_);
     soil_out_.clear();
     decimator_->push(soil_in_.data(), block.sampleCount(), soil_out_);
     writeSoil();

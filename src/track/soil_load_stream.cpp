@@ -24,13 +24,15 @@ signal::DecimatorSpec loadDecimatorSpec(double dt_s, double load_rate_hz) {
 SoilLoadStream::SoilLoadStream(const TrackParams& params, double dt_s, double load_sample_rate_hz,
                                double start_convection_speed_m_s)
     : stepper_(params, dt_s),
-      decimator_(loadDecimatorSpec(dt_s, load_sample_rate_hz), static_cast<size_t>(stepper_.sleeperCount())),
+      decimator_(loadDecimatorSpec(dt_s, load_sample_rate_hz), soilLoadsPerFrame()),
       start_convection_speed_m_s_(start_convection_speed_m_s) {}
 
-size_t SoilLoadStream::push(size_t sample_count, size_t wheel_count, const double* position_m, const double* force_n,
-                            std::vector<double>& out) {
+size_t SoilLoadStream::push(size_t sample_count, const std::vector<Rail>& wheel_rails, const double* position_m,
+                            const double* force_n, std::vector<double>& out) {
   size_t emitted = 0;
+  const size_t wheel_count = wheel_rails.size();
   loads_.resize(wheel_count);
+  for (size_t w = 0; w < wheel_count; ++w) loads_[w].rail = wheel_rails[w];
   for (size_t s = 0; s < sample_count; ++s) {
     for (size_t w = 0; w < wheel_count; ++w) {
       loads_[w].x_m = position_m[s * wheel_count + w];
@@ -42,7 +44,7 @@ size_t SoilLoadStream::push(size_t sample_count, size_t wheel_count, const doubl
       stepper_.step(loads_);
     }
     ++contact_samples_;
-    emitted += decimator_.push(stepper_.soilLoadsBothRails().data(), 1, out);
+    emitted += decimator_.push(stepper_.soilLoads().data(), 1, out);
   }
   return emitted;
 }

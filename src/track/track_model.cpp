@@ -35,6 +35,30 @@ size_t TrackModel::seatIndex(Rail rail) const {
   return seat;
 }
 
+std::vector<double> soilRailSeatPositions(const TrackParams& params) {
+  if (params.width == TrackWidth::Half) return {};
+  return {params.rail_seat_offset_m, -params.rail_seat_offset_m};
+}
+
+void soilLoadFrames(const std::vector<double>& ballast, size_t sleepers, size_t seats, std::vector<double>& out) {
+  if (sleepers == 0 || (seats != 1 && seats != 2) || ballast.size() % (sleepers * seats) != 0) {
+    throw std::invalid_argument("soilLoadFrames: " + std::to_string(ballast.size()) + " ballast forces for " +
+                                std::to_string(sleepers) + " sleepers x " + std::to_string(seats) + " rail seats");
+  }
+  out.resize(ballast.size());
+  if (seats == 1) {
+    for (size_t k = 0; k < ballast.size(); ++k) out[k] = kHalfTrackRailsOnSoil * ballast[k];
+    return;
+  }
+  const size_t samples = ballast.size() / (sleepers * seats);
+  for (size_t k = 0; k < samples; ++k) {
+    for (size_t seat = 0; seat < seats; ++seat) {
+      for (size_t s = 0; s < sleepers; ++s)
+        out[(k * sleepers + s) * seats + seat] = ballast[(k * seats + seat) * sleepers + s];
+    }
+  }
+}
+
 double TrackModel::railSeatY(Rail rail) const {
   if (rails_ == 1) {
     seatIndex(rail);  // refuses the right rail

@@ -322,4 +322,18 @@ double TrackNewmark::railDisplacement(double x_m) const { return model_.railPoin
 
 void TrackNewmark::ballastForces(std::vector<double>& out) const { model_.ballastForceOnFoundation(u_, v_, out); }
 
+void TrackNewmark::ballastForcesPerSeat(std::vector<double>& out) const {
+  if (model_.railCount() == 1) {
+    ballastForces(out);
+    return;
+  }
+  const size_t sleepers = static_cast<size_t>(model_.sleeperCount());
+  out.resize(2 * sleepers);
+  for (Rail rail : {Rail::Left, Rail::Right}) {
+    model_.ballastForceOnFoundation(u_, v_, seat_scratch_, rail);
+    std::copy(seat_scratch_.begin(), seat_scratch_.end(),
+              out.begin() + static_cast<long>(static_cast<size_t>(rail) * sleepers));
+  }
+}
+
 }  // namespace railvib::track

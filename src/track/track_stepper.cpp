@@ -4,20 +4,7 @@
 
 namespace railvib::track {
 
-namespace {
-// The chain's track: one rail whose ballast forces the soil receives twice.
-const TrackParams& halfTrack(const TrackParams& params, const char* who) {
-  if (params.width != TrackWidth::Half) {
-    throw ConfigError(std::string("track.width = full: ") + who +
-                      " takes the half track only so far (the full width is in the track model and railvib_tool "
-                      "receptance --load); set track.width: half");
-  }
-  return params;
-}
-}  // namespace
-
-TrackStepper::TrackStepper(const TrackParams& params, double dt_s)
-    : model_(halfTrack(params, "the track's time stepping (ballast loads for the soil)")), newmark_(model_, dt_s) {
+TrackStepper::TrackStepper(const TrackParams& params, double dt_s) : model_(params), newmark_(model_, dt_s) {
   updateOutputs();
 }
 
@@ -44,16 +31,17 @@ void TrackStepper::step(const std::vector<PointLoad>& loads) {
 }
 
 void TrackStepper::updateOutputs() {
-  newmark_.ballastForces(ballast_);
-  soil_.resize(ballast_.size());
-  for (size_t i = 0; i < ballast_.size(); ++i) soil_[i] = kHalfTrackRailsOnSoil * ballast_[i];
+  newmark_.ballastForcesPerSeat(ballast_);
+  soilLoadFrames(ballast_, static_cast<size_t>(model_.sleeperCount()), static_cast<size_t>(model_.railCount()), soil_);
 }
 
 std::vector<PointLoad> MovingLoadSource::loadsAt(double t_s) const {
-  if (forces_n.size() != offsets_behind_m.size()) throw std::invalid_argument("MovingLoadSource: size mismatch");
+  if (forces_n.size() != offsets_behind_m.size() || (!rails.empty() && rails.size() != forces_n.size()))
+    throw std::invalid_argument("MovingLoadSource: size mismatch");
   std::vector<PointLoad> out(forces_n.size());
   const double front = front_start_m + speed_m_s * t_s;
-  for (size_t k = 0; k < forces_n.size(); ++k) out[k] = PointLoad{front - offsets_behind_m[k], forces_n[k]};
+  for (size_t k = 0; k < forces_n.size(); ++k)
+    out[k] = PointLoad{front - offsets_behind_m[k], forces_n[k], rails.empty() ? Rail::Left : rails[k]};
   return out;
 }
 

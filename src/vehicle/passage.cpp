@@ -70,7 +70,6 @@ struct FlexibleRail::Impl {
   track::TrackModel model;
   track::TrackNewmark newmark;
   std::vector<track::RailPoint> points;
-  mutable std::vector<double> seat;  // one rail seat's ballast forces (scratch)
 };
 
 FlexibleRail::FlexibleRail(const track::TrackParams& params, double dt_s)
@@ -112,21 +111,7 @@ void FlexibleRail::prepareStep(const std::vector<double>& x, Eigen::VectorXd& fr
 
 void FlexibleRail::commitStep(const std::vector<double>& F) { impl_->newmark.commitContact(F); }
 
-void FlexibleRail::ballastForces(std::vector<double>& out) const {
-  const auto& m = impl_->model;
-  if (m.railCount() == 1) {
-    impl_->newmark.ballastForces(out);
-    return;
-  }
-  // full width: the left seats, then the right seats
-  const auto& nm = impl_->newmark;
-  const size_t ns = static_cast<size_t>(m.sleeperCount());
-  out.resize(2 * ns);
-  for (track::Rail r : {track::Rail::Left, track::Rail::Right}) {
-    m.ballastForceOnFoundation(nm.displacement(), nm.velocity(), impl_->seat, r);
-    std::copy(impl_->seat.begin(), impl_->seat.end(), out.begin() + static_cast<long>(static_cast<size_t>(r) * ns));
-  }
-}
+void FlexibleRail::ballastForces(std::vector<double>& out) const { impl_->newmark.ballastForcesPerSeat(out); }
 
 std::vector<double> FlexibleRail::sleeperPositions() const { return impl_->model.sleeperPositions(); }
 double FlexibleRail::xMin() const { return impl_->model.interiorStart(); }
@@ -138,17 +123,9 @@ std::unique_ptr<RailSupport> makeRailSupport(const PassageParams& params, const 
 }
 
 // ------------------------------------------------------------------ statics
-namespace {
-std::vector<track::Rail> wheelRails(const VehicleModel& model) {
-  std::vector<track::Rail> rails;
-  for (const auto& w : model.wheels()) rails.push_back(w.rail);
-  return rails;
-}
-}  // namespace
-
 StaticState staticEquilibrium(const VehicleModel& model, RailSupport& rail, const std::vector<double>& x,
                               const std::vector<double>& z) {
-  rail.setWheelRails(wheelRails(model));  // each wheel on its own rail
+  rail.setWheelRails(model.wheelRails());  // each wheel on its own rail
   return staticEquilibrium(model, rail.staticCompliance(x), z);
 }
 
@@ -216,7 +193,7 @@ VehiclePassage::VehiclePassage(const VehicleModel& model, const Unevenness& unev
   if (!rail_->isRigid() && (rail_->railSeatCount() == 2) != model_.fullWidth()) {
     throw std::invalid_argument("VehiclePassage: the vehicle and the track have different widths (track.width)");
   }
-  rail_->setWheelRails(wheelRails(model_));
+  rail_->setWheelRails(model_.wheelRails());
   const double dt = params_.time_step_s;
   // ---- accuracy of the time step (Newmark beta = 1/4 is unconditionally stable), from the
   // lightest body on the contact and the smallest wheel, whatever the vehicle

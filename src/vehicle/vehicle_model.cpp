@@ -335,6 +335,12 @@ int VehicleModel::wheelIndex(int axle, track::Rail rail) const {
   return 2 * axle + (rail == track::Rail::Right ? 1 : 0);
 }
 
+std::vector<track::Rail> VehicleModel::wheelRails() const {
+  std::vector<track::Rail> rails;
+  for (const auto& w : wheels_) rails.push_back(w.rail);
+  return rails;
+}
+
 int VehicleModel::partnerWheel(int wheel) const {
   if (wheel < 0 || wheel >= wheelCount()) throw std::out_of_range("VehicleModel: no wheel " + std::to_string(wheel));
   return fullWidth() ? (wheel ^ 1) : -1;

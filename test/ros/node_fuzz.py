@@ -127,6 +127,7 @@ def contact_block(sc, rm, first, count, eos=False):
     header(m, first * sc.dt)
     m.first_sample_index, m.end_of_stream, m.sample_period_s, m.sample_count = first, eos, sc.dt, count
     m.wheel_count = sc.wheels
+    m.wheel_rail = [0] * sc.wheels  # the half vehicle: every wheel on the left rail
     offsets = [0.0, 1.6667, 7.5, 9.1667, 15.0, 16.6667][: sc.wheels]
     for k in range(count):
         for w in range(sc.wheels):
@@ -141,6 +142,7 @@ def loads_block(sc, rm, first, count, eos=False):
     header(m, first * sc.load_dt)
     m.first_sample_index, m.end_of_stream, m.sample_period_s, m.sample_count = first, eos, sc.load_dt, count
     m.sleeper_count = len(sc.sleepers)
+    m.seats_per_sleeper = 1
     m.force_n = [1.0e4 + 10.0 * k for k in range(count) for _ in sc.sleepers]
     return m
 
@@ -270,6 +272,9 @@ def cases():
         ("gap of 10 samples", plain(contact_block, 60, 50), "samples lost"),
         ("block repeated", plain(contact_block, 0, 50), "duplicate or reordered"),
         ("index near overflow", setattr_("first_sample_index", 2**64 - 5)(contact_block, 50, 50), "first_sample_index"),
+        ("wheel_rail missing", setattr_("wheel_rail", [])(contact_block, 50, 50), "wheel_rail has 0 values"),
+        ("a wheel on the right rail of a half track", poke("wheel_rail", 1, 1)(contact_block, 50, 50),
+         "wheel_rail[1] = 1"),
     ]:
         C.append(("track", name, {}, [(cf, plain(contact_block, 0, 50)), (cf, bad)], "refused", frag))
     C.append(("track", "block after end_of_stream", {}, good + [(cf, plain(contact_block, 100, 10))], "refused",
@@ -289,6 +294,9 @@ def cases():
         ("period of another rate", setattr_("sample_period_s", 1e-3)(loads_block, 20, 20), "load_sample_rate_hz"),
         ("gap", plain(loads_block, 25, 20), "samples lost"),
         ("block repeated", plain(loads_block, 0, 20), "duplicate or reordered"),
+        ("two seats per sleeper on a half track", setattr_("seats_per_sleeper", 2)(loads_block, 20, 20),
+         "seats_per_sleeper = 2"),
+        ("seats_per_sleeper 0", setattr_("seats_per_sleeper", 0)(loads_block, 20, 20), "seats_per_sleeper = 0"),
     ]:
         C.append(("soil", name, lay, [(sl, plain(loads_block, 0, 20)), (sl, bad)], "refused", frag))
 
@@ -306,6 +314,8 @@ def cases():
         ("layout shifted 1 m", sleepers_mut(lambda m: setattr(m, "position_m", [x + 1 for x in m.position_m])),
          "the track config puts it at"),
         ("footprint NaN", sleepers_mut(lambda m: setattr(m, "length_m", float("nan"))), "length_m = nan"),
+        ("rail seats on a half track", sleepers_mut(lambda m: setattr(m, "rail_seat_y_m", [0.7175, -0.7175])),
+         "2 rail seats (rail_seat_y_m)"),
     ]:
         C.append(("soil", name, layout, [(sl, plain(loads_block, 0, 20))], "refused", frag))
 

@@ -126,7 +126,9 @@ def contact(first, count, eos):
 
 
 def loads(first, count, eos):
-    return stream(rm.SoilLoads, first, count, 3, eos, 5e-4, [("force_n", 1)], "sleeper_count")
+    m = stream(rm.SoilLoads, first, count, 3, eos, 5e-4, [("force_n", 1)], "sleeper_count")
+    m.seats_per_sleeper = 1  # the half track: one force per sleeper
+    return m
 
 
 def write_bag(path, messages, status=None):

@@ -178,8 +178,8 @@ class Cases:
         # The full-width passage's loads per rail seat (symmetric): the same ground motion as the half chain's,
         # to the float soil's round-off (1.5e-6 of the 2 m peak over the CI scenario's 0.5 s, measured).
         full_out = WORK / "soil_full"
-        full = self.run("soil", "--config", CI, "--loads", self.passage_full_dir / "soil_loads.csv", "--out", full_out,
-                        "--duration", 0.02)
+        full = self.run("soil", "--config", CI, "--set", "track.width=full", "--loads",
+                        self.passage_full_dir / "soil_loads.csv", "--out", full_out, "--duration", 0.02)
         check(full["loads_per_sleeper"] == 2 and s["loads_per_sleeper"] == 1, (full["loads_per_sleeper"], s))
         fr = rows(full_out / "receivers.csv")
         cols = [c for c in r[0] if c != "t_s"]
@@ -192,9 +192,17 @@ class Cases:
             bad_path = WORK / "soil_loads_unpaired.csv"
             bad_path.write_text(",".join(bad_header) + "\n" + ",".join(["0"] * len(bad_header)) + "\n" +
                                 ",".join(["0.0005"] + ["0"] * (len(bad_header) - 1)) + "\n")
-            out = subprocess.run([self.tool, "soil", "--config", CI, "--loads", str(bad_path), "--out",
-                                  str(WORK / "soil_bad"), "--duration", "0.001"], capture_output=True, text=True)
+            out = subprocess.run([self.tool, "soil", "--config", CI, "--set", "track.width=full", "--loads",
+                                  str(bad_path), "--out", str(WORK / "soil_bad"), "--duration", "0.001"],
+                                 capture_output=True, text=True)
             check(out.returncode != 0 and "come in pairs" in out.stderr, (bad_header, out.stderr))
+        # Loads per rail seat on a half track's soil (or one per sleeper on a full one): refused, naming the key.
+        for loads, width in ((self.passage_full_dir / "soil_loads.csv", "half"),
+                             (self.passage_dir / "soil_loads.csv", "full")):
+            out = subprocess.run([self.tool, "soil", "--config", CI, "--set", "track.width=" + width, "--loads",
+                                  str(loads), "--out", str(WORK / "soil_bad"), "--duration", "0.001"],
+                                 capture_output=True, text=True)
+            check(out.returncode != 0 and "track.width is " + width in out.stderr, (width, out.stderr))
 
     def soil_bench(self):
         s = self.run("soil-bench", "throughput", "--nx", 16, "--ny", 8, "--nz", 4, "--steps", 3, "--repeat", 1,

@@ -76,6 +76,11 @@ struct BlockArray {
 /// Throws StreamContractError on the first violation (see the file comment).
 void validateBlock(const BlockContract& contract, const BlockHead& head, std::initializer_list<BlockArray> arrays);
 
+/// A per-point code array of a block (e.g. ContactForces.wheel_rail) must be, code for code, what the
+/// consumer's config says (`expected`, from `expected_source`). Throws StreamContractError.
+void validatePointCodes(const BlockContract& contract, const char* field, const std::vector<uint8_t>& codes,
+                        const std::vector<uint8_t>& expected, const std::string& expected_source);
+
 /// Index of the first value that is not finite or whose magnitude exceeds `bound`; n if none.
 size_t firstValueOutside(const double* values, size_t n, double bound);
 

@@ -1,8 +1,11 @@
-// railvib ROS layer: constant moving axle loads published as ContactForces,
-// the stand-in for the vehicle in the track scenario (track.launch).
+// railvib ROS layer: constant moving wheel loads published as ContactForces,
+// the stand-in for the vehicle in the track scenario (track.launch): one per
+// axle (half track) or per wheel on its rail (full width).
 #pragma once
 
 #include <ros/ros.h>
+
+#include <vector>
 
 #include "railvib/ContactForces.h"
 #include "railvib/ros/block_publisher.hpp"
@@ -19,6 +22,7 @@ class MovingLoadSourceNode {
 
  private:
   track::MovingLoadSource source_;
+  std::vector<uint8_t> wheel_rail_;  // ContactForces.wheel_rail
   double dt_s_ = 0.0;
   uint64_t total_samples_ = 0;
   size_t block_samples_ = 1000;

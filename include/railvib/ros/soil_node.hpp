@@ -49,6 +49,7 @@ class SoilNode {
   soil::SoilDriver driver_;
   std::string setup_;  // what the model of every rank is built from (modelFactory)
   double load_sample_rate_hz_ = 0.0;
+  std::vector<double> rail_seat_y_m_;  // the track's rail seats (track::soilRailSeatPositions)
   StreamLimits limits_;
   BlockPublisher<railvib::SurfaceVelocities> velocity_publisher_;
   ros::Publisher layout_publisher_, snapshot_publisher_, section_publisher_;

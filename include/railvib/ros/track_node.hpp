@@ -34,10 +34,12 @@ class TrackNode {
   BlockPublisher<railvib::SoilLoads> loads_publisher_;
   ros::Publisher layout_publisher_;
   ros::Subscriber contact_subscriber_;
-  std::vector<double> pending_;  // soil-load samples not yet published, [sample][sleeper]
+  std::vector<double> pending_;  // soil-load samples not yet published, [sample][sleeper][seat]
   uint64_t next_load_index_ = 0;
   size_t block_samples_ = 100;
-  uint32_t wheel_count_ = 0;  // the vehicle's wheels (vehicles.<name>.wheels)
+  uint32_t wheel_count_ = 0;               // the vehicle's wheels (vehicles.<name>.wheels; per rail at full width)
+  std::vector<track::Rail> wheel_rails_;   // the rail under each wheel, from the vehicle
+  std::vector<uint8_t> wheel_rail_codes_;  // the same as ContactForces.wheel_rail carries it
   StreamLimits limits_;
   std::unique_ptr<NodeStatus> status_;
   bool ended_ = false;

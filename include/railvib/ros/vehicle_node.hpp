@@ -8,6 +8,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <memory>
+#include <vector>
 
 #include "railvib/ContactForces.h"
 #include "railvib/ros/block_publisher.hpp"
@@ -36,6 +37,7 @@ class VehicleNode {
   BlockPublisher<railvib::ContactForces> publisher_;
   BlockPublisher<tf2_msgs::TFMessage> tf_publisher_;
   std::unique_ptr<NodeStatus> status_;
+  std::vector<uint8_t> wheel_rail_;  // ContactForces.wheel_rail: the rail under each wheel
   size_t block_samples_ = 1000;
   uint64_t tf_every_ = 1000;
 };

@@ -126,6 +126,18 @@ struct TrackParams {
 /// Throws ConfigError.
 TrackParams loadTrackParams(const ConfigNode& root);
 
+/// The lateral positions (m, frame track; left = +y) of the rail seats whose forces the soil takes
+/// one by one: none for the half track (the soil takes one force per sleeper, both rails together:
+/// kHalfTrackRailsOnSoil x the seat's), {+a, -a} at full width (a = rail_seat_offset_m).
+std::vector<double> soilRailSeatPositions(const TrackParams& params);
+
+/// The soil's load frames from ballast forces per rail seat, seat-major per sample ([sample][seat]
+/// [sleeper]: TrackNewmark::ballastForcesPerSeat, PassageBlock::ballast_force_n): one seat (the half
+/// track) gives kHalfTrackRailsOnSoil x the seat per sleeper; two give [sample][sleeper][seat], the
+/// order soil::SoilModel takes. `out` is replaced; sizes are checked (std::invalid_argument).
+void soilLoadFrames(const std::vector<double>& ballast_seat_major_n, size_t sleepers, size_t seats,
+                    std::vector<double>& out_n);
+
 /// A position on the rail: the 4 DOFs of the Hermite element holding it and
 /// the shape-function weights. Rail displacement w(x) = sum weights[k] * u[dofs[k]],
 /// slope dw/dx = sum slope_weights[k] * u[dofs[k]]. A unit point load at x has

@@ -93,6 +93,9 @@ class TrackNewmark {
   // ---- outputs
   double railDisplacement(double x_m) const;
   void ballastForces(std::vector<double>& out_half_track_n) const;
+  /// Ballast force on the foundation under every rail seat (N, downward), seat-major:
+  /// [seat * sleeperCount + sleeper], the left seats first; the half track has its one seat.
+  void ballastForcesPerSeat(std::vector<double>& out_n) const;
   double kineticEnergy() const { return model_.kineticEnergy(v_); }
   double strainEnergy() const { return model_.strainEnergy(u_); }
   double totalEnergy() const { return kineticEnergy() + strainEnergy(); }
@@ -112,6 +115,7 @@ class TrackNewmark {
   std::vector<RailPoint> points_;
   mutable std::vector<Eigen::VectorXd> columns_;
   mutable size_t cached_columns_ = 0;
+  mutable std::vector<double> seat_scratch_;  // one seat's ballast forces (ballastForcesPerSeat)
   Eigen::MatrixXd G_;
   Eigen::VectorXd w_free_;
   bool predicted_ = false;

@@ -1,8 +1,9 @@
 // railvib/track: streaming drivers the ROS node (or a tool) wraps. No ROS here.
 //
-// TrackStepper: per step, contact loads (position, force) in; ballast-to-soil
-// loads per sleeper out, at the full step rate. Decimation to the soil rate is
-// the caller's job (railvib::signal::Decimator).
+// TrackStepper: per step, contact loads (position, force, rail) in; ballast-to-soil
+// loads out, at the full step rate: one per sleeper for the half track (both
+// rails together), one per rail seat at full width. Decimation to the soil rate
+// is the caller's job (railvib::signal::Decimator).
 //
 // MovingLoadSource: constant moving loads (axles) at constant speed.
 #pragma once
@@ -37,10 +38,14 @@ class TrackStepper {
   /// Loads outside the rail are ignored (counted in ignoredLoadCount()).
   void step(const std::vector<PointLoad>& loads);
 
-  /// Ballast force on the foundation per sleeper, half track (N, downward), current state.
-  const std::vector<double>& ballastForcesHalfTrack() const { return ballast_; }
-  /// Both rails: 2 x half track (what the soil receives).
-  const std::vector<double>& soilLoadsBothRails() const { return soil_; }
+  /// Ballast force on the foundation under each rail seat (N, downward), seat-major ([seat][sleeper],
+  /// TrackNewmark::ballastForcesPerSeat; the half track has one seat), current state.
+  const std::vector<double>& ballastForcesPerSeat() const { return ballast_; }
+  /// What the soil receives (N, downward), current state: half track 2 x the seat per sleeper (both
+  /// rails), full width each seat's force, [sleeper][seat] (soilLoadFrames, track_model.hpp).
+  const std::vector<double>& soilLoads() const { return soil_; }
+  /// Forces per sleeper in soilLoads(): 1 (half track) or 2 (full width).
+  int soilLoadsPerSleeper() const { return model_.railCount(); }
   long ignoredLoadCount() const { return ignored_; }
 
  private:
@@ -52,12 +57,14 @@ class TrackStepper {
   long ignored_ = 0;
 };
 
-/// Constant vertical loads moving at constant speed: load k at x = x0 + offset_k + speed * t.
+/// Constant vertical loads moving at constant speed: load k at x = front_start + speed * t - offset_k,
+/// on rails[k] (empty: all on the left rail, the half track's).
 struct MovingLoadSource {
   double front_start_m = 0.0;
   double speed_m_s = 0.0;
-  std::vector<double> offsets_behind_m;  ///< axle k at x = front - offset_k
-  std::vector<double> forces_n;          ///< per axle and rail (N, downward)
+  std::vector<double> offsets_behind_m;  ///< wheel k at x = front - offset_k
+  std::vector<double> forces_n;          ///< per wheel (N, downward)
+  std::vector<Rail> rails;               ///< per wheel, or empty
 
   std::vector<PointLoad> loadsAt(double t_s) const;
 };

@@ -118,6 +118,8 @@ class VehicleModel {
   /// Index in wheels() of the wheel of `axle` on `rail` (throws std::invalid_argument for the right
   /// rail of the half vehicle, std::out_of_range for an unknown axle).
   int wheelIndex(int axle, track::Rail rail) const;
+  /// The rail under each wheel, in the order of wheels() (the half vehicle: Rail::Left only).
+  std::vector<track::Rail> wheelRails() const;
   /// The other wheel of a wheel's axle (full width), or -1 (half width).
   int partnerWheel(int wheel) const;
   const std::vector<WheelInfo>& wheels() const { return wheels_; }

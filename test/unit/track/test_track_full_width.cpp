@@ -14,16 +14,10 @@
 #include "railvib/common/config.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/track/track_newmark.hpp"
-#include "railvib/track/track_stepper.hpp"
 #include "track_test_util.hpp"
 
 namespace railvib::track {
 namespace {
-
-/// The Haren scenario's track (with the site's gauge) on the fixed 100 m track, with overrides.
-TrackParams scenarioTrack(std::vector<std::string> overrides) {
-  return loadTrackParams(Config::load(test::configPath("haren.yaml"), test::fixedExtent(overrides)).root());
-}
 
 std::vector<double> frequencies() {
   std::vector<double> f;
@@ -43,8 +37,8 @@ const char* kFoundations[] = {"clm", "winkler", "rigid"};
 // weighs two half sleepers), at a sleeper and mid-span, over 1-500 Hz, on every foundation.
 TEST(FullWidthTrack, InPhaseLoadingIsTheHalfTrack) {
   for (const std::string fm : kFoundations) {
-    const TrackModel half(scenarioTrack({"track.foundation.model=" + fm}));
-    const TrackModel full(scenarioTrack({"track.foundation.model=" + fm, "track.width=full"}));
+    const TrackModel half(test::harenScenario({"track.foundation.model=" + fm}));
+    const TrackModel full(test::harenScenario({"track.foundation.model=" + fm, "track.width=full"}));
     ASSERT_EQ(full.railCount(), 2);
     for (double x : {0.0, 0.36}) {
       const double err =
@@ -69,14 +63,14 @@ TEST(FullWidthTrack, InPhaseLoadingIsTheHalfTrack) {
 // kinetic energy J phi'^2 / 2 with the seats at +-a moving by +-a phi.
 TEST(FullWidthTrack, AntiPhaseIsTheHalfTrackWithTheRollInertiaAsSleeperMass) {
   for (const std::string fm : kFoundations) {
-    const TrackParams fp = scenarioTrack({"track.foundation.model=" + fm, "track.width=full"});
+    const TrackParams fp = test::harenScenario({"track.foundation.model=" + fm, "track.width=full"});
     const double a = fp.rail_seat_offset_m;
     EXPECT_DOUBLE_EQ(a, 0.5 * 1.435);  // site.rail_gauge_m / 2
     const double equivalent_kg = fp.sleeper_roll_inertia_kg_m2 / (2.0 * a * a);
     const TrackModel full(fp);
     std::ostringstream mass;
     mass << std::setprecision(17) << equivalent_kg;
-    const TrackModel half(scenarioTrack({"track.foundation.model=" + fm, "track.sleeper.mass_kg=" + mass.str()}));
+    const TrackModel half(test::harenScenario({"track.foundation.model=" + fm, "track.sleeper.mass_kg=" + mass.str()}));
     const auto anti = full.receptance(0.0, frequencies(), RailLoading::AntiPhase);
     EXPECT_LT(worstRelative(anti, half.receptance(0.0, frequencies())), 1e-9) << fm;
     // and the two cases really differ (50.7 kg m^2 over 2 a^2 = 49.2 kg against 45 kg per seat)
@@ -90,8 +84,8 @@ TEST(FullWidthTrack, AntiPhaseIsTheHalfTrackWithTheRollInertiaAsSleeperMass) {
 // nothing; the rails couple only through the sleeper's mass distribution, dynamically.
 TEST(FullWidthTrack, AStaticLoadOnOneRailStaysOnIt) {
   for (const std::string fm : kFoundations) {
-    const TrackModel half(scenarioTrack({"track.foundation.model=" + fm}));
-    const TrackModel full(scenarioTrack({"track.foundation.model=" + fm, "track.width=full"}));
+    const TrackModel half(test::harenScenario({"track.foundation.model=" + fm}));
+    const TrackModel full(test::harenScenario({"track.foundation.model=" + fm, "track.width=full"}));
     const double load_n = 5.0e4;
     const Eigen::VectorXd uf = full.staticDeflection({{0.2, load_n, Rail::Left}});
     const Eigen::VectorXd uh = half.staticDeflection({{0.2, load_n}});
@@ -119,11 +113,11 @@ TEST(FullWidthTrack, AStaticLoadOnOneRailStaysOnIt) {
 // full-width track (heave, roll and both rails moving) as it does the half track's.
 TEST(FullWidthTrack, UndampedEnergyIsConserved) {
   for (const std::string fm : kFoundations) {
-    const TrackModel model(
-        scenarioTrack({"track.width=full", "track.foundation.model=" + fm, "track.extent.x_min_m=0",
-                       "track.extent.x_max_m=10", "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
-                       "track.ballast.damping_n_s_m=0", "track.foundation.clm.damping_n_s_m=0",
-                       "track.foundation.clm.coupling_damping_n_s_m=0", "track.foundation.winkler.damping_n_s_m=0"}));
+    const TrackModel model(test::harenScenario(
+        {"track.width=full", "track.foundation.model=" + fm, "track.extent.x_min_m=0", "track.extent.x_max_m=10",
+         "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0", "track.ballast.damping_n_s_m=0",
+         "track.foundation.clm.damping_n_s_m=0", "track.foundation.clm.coupling_damping_n_s_m=0",
+         "track.foundation.winkler.damping_n_s_m=0"}));
     ASSERT_EQ(model.damping().norm(), 0.0);
     TrackNewmark nm(model, 1.0e-4);
     Eigen::VectorXd v = Eigen::VectorXd::Zero(model.dofCount());
@@ -150,13 +144,13 @@ TEST(FullWidthTrack, UndampedEnergyIsConserved) {
 
 TEST(FullWidthTrack, BadWidthsAndRailsAreRefused) {
   try {
-    scenarioTrack({"track.width=both"});
+    test::harenScenario({"track.width=both"});
     ADD_FAILURE() << "track.width=both accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("track.width"), std::string::npos) << e.what();
   }
   try {  // the rail seats must lie on the sleeper
-    scenarioTrack({"track.width=full", "track.sleeper.length_m=1.2"});
+    test::harenScenario({"track.width=full", "track.sleeper.length_m=1.2"});
     ADD_FAILURE() << "seats off a 1.2 m sleeper accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("track.sleeper.length_m"), std::string::npos) << e.what();
@@ -167,14 +161,7 @@ TEST(FullWidthTrack, BadWidthsAndRailsAreRefused) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("site.rail_gauge_m"), std::string::npos) << e.what();
   }
-  // the chain's track stepping (ballast loads for the soil) takes the half track only so far
-  try {
-    TrackStepper stepper(scenarioTrack({"track.width=full"}), 1e-4);
-    ADD_FAILURE() << "full width accepted by the track stepper";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("track.width = full"), std::string::npos) << e.what();
-  }
-  const TrackModel half(scenarioTrack({}));
+  const TrackModel half(test::harenScenario({}));
   EXPECT_THROW(half.railPoint(0.0, Rail::Right), std::invalid_argument);
   EXPECT_THROW(half.receptance(0.0, {10.0}, RailLoading::AntiPhase), std::invalid_argument);
 }

@@ -213,9 +213,9 @@ TEST(TrackStepper, SoilLoadsAreTwiceTheHalfTrack) {
                   1.0e-4);
   st.start({{0.0, 30e3}});
   double sum = 0.0;
-  for (size_t i = 0; i < st.soilLoadsBothRails().size(); ++i) {
-    EXPECT_DOUBLE_EQ(st.soilLoadsBothRails()[i], 2.0 * st.ballastForcesHalfTrack()[i]);
-    sum += st.soilLoadsBothRails()[i];
+  for (size_t i = 0; i < st.soilLoads().size(); ++i) {
+    EXPECT_DOUBLE_EQ(st.soilLoads()[i], 2.0 * st.ballastForcesPerSeat()[i]);
+    sum += st.soilLoads()[i];
   }
   EXPECT_NEAR(sum, 60e3, 1e-6 * 60e3);
   st.step({{0.001, 30e3}, {1000.0, 1.0}});
@@ -245,7 +245,7 @@ TEST(TrackSoilLoadStream, DecimatedLoadsCarryTheAppliedLoad) {
     f[s * wheels] = 20e3;
     f[s * wheels + 1] = 30e3;
   }
-  size_t frames = stream.push(samples, wheels, x.data(), f.data(), out);
+  size_t frames = stream.push(samples, {Rail::Left, Rail::Left}, x.data(), f.data(), out);
   frames += stream.flush(out);
   const size_t ns = static_cast<size_t>(stream.sleeperCount());
   ASSERT_EQ(out.size(), frames * ns);
@@ -256,6 +256,65 @@ TEST(TrackSoilLoadStream, DecimatedLoadsCarryTheAppliedLoad) {
     EXPECT_NEAR(sum / 100e3, 1.0, 1e-3) << "frame " << k;
   }
   EXPECT_NEAR(stream.time(), 1.0e-4 * (samples - 1), 1e-12);
+}
+
+// Full width: each rail seat's force, [sleeper][seat]. The same wheels on both rails are the half
+// track (each seat carries half of what the half track gives the soil) to round-off; on the left
+// rail alone the frames carry the applied load once (statics), most of it on the left seats.
+TEST(TrackSoilLoadStream, FullWidthGivesEachRailSeatsForce) {
+  const std::vector<std::string> base{"track.extent.mode=fixed", "track.extent.x_min_m=-15", "track.extent.x_max_m=15",
+                                      "track.ends.absorbing_length_m=4"};
+  std::vector<std::string> full_overrides = base;
+  full_overrides.push_back("track.width=full");
+  const TrackParams half_params = test::harenScenario(base), full_params = test::harenScenario(full_overrides);
+  const size_t samples = 2000;
+  auto run = [&](const TrackParams& p, const std::vector<Rail>& rails, std::vector<double>& out) {
+    SoilLoadStream stream(p, 1.0e-4, 1000.0);
+    const size_t wheels = rails.size();
+    std::vector<double> x(samples * wheels), f(samples * wheels);
+    for (size_t s = 0; s < samples; ++s) {
+      for (size_t w = 0; w < wheels; ++w) {
+        const bool second_axle = w >= (wheels + 1) / 2 && wheels > 1;
+        x[s * wheels + w] = (second_axle ? 1.0 : -2.0) + 1.0e-4 * s;  // 1 m/s
+        f[s * wheels + w] = (second_axle ? 30e3 : 20e3) * (1.0 + 0.3 * std::sin(60.0 * 1e-4 * s));
+      }
+    }
+    size_t frames = stream.push(samples, rails, x.data(), f.data(), out);
+    frames += stream.flush(out);
+    EXPECT_EQ(out.size(), frames * stream.soilLoadsPerFrame());
+    return stream.soilLoadsPerSleeper();
+  };
+  std::vector<double> half, both, left;
+  ASSERT_EQ(run(half_params, {Rail::Left, Rail::Left}, half), 1);
+  // two axles on both rails (axle-major: left, right)
+  ASSERT_EQ(run(full_params, {Rail::Left, Rail::Right, Rail::Left, Rail::Right}, both), 2);
+  ASSERT_EQ(both.size(), 2 * half.size());
+  double peak = 0.0, worst = 0.0;
+  for (size_t i = 0; i < half.size(); ++i) {
+    peak = std::max(peak, std::abs(half[i]));
+    for (size_t seat = 0; seat < 2; ++seat) worst = std::max(worst, std::abs(both[2 * i + seat] - 0.5 * half[i]));
+  }
+  RecordProperty("symmetric_full_vs_half_rel", std::to_string(worst / peak));
+  EXPECT_LT(worst, 1e-9 * peak);
+
+  // the left rail alone, constant loads: statics
+  SoilLoadStream stream(full_params, 1.0e-4, 1000.0);
+  std::vector<double> x{-2.0, 1.0}, f{20e3, 30e3};
+  size_t frames = 0;
+  for (size_t s = 0; s < samples; ++s) {
+    x[0] = -2.0 + 1.0e-4 * s;
+    x[1] = 1.0 + 1.0e-4 * s;
+    frames += stream.push(1, {Rail::Left, Rail::Left}, x.data(), f.data(), left);
+  }
+  const size_t ns = static_cast<size_t>(stream.sleeperCount());
+  ASSERT_EQ(left.size(), frames * 2 * ns);
+  for (size_t k = 0; k < frames; k += 20) {
+    double seat_sum[2] = {0.0, 0.0};
+    for (size_t i = 0; i < ns; ++i)
+      for (size_t seat = 0; seat < 2; ++seat) seat_sum[seat] += left[(k * ns + i) * 2 + seat];
+    EXPECT_NEAR((seat_sum[0] + seat_sum[1]) / 50e3, 1.0, 1e-3) << "frame " << k;
+    EXPECT_GT(seat_sum[0], 0.5 * 50e3) << "frame " << k;  // the loaded rail's seats carry most of it
+  }
 }
 
 }  // namespace

@@ -27,4 +27,10 @@ inline TrackParams haren(const std::vector<std::string>& overrides = {}) {
   return loadTrackParams(Config::load(configPath("track_haren.yaml"), fixedExtent(overrides)).root());
 }
 
+/// The track of the whole Haren scenario (config/haren.yaml: with the site, so track.width=full has its
+/// gauge) on the fixed 100 m track, with overrides.
+inline TrackParams harenScenario(const std::vector<std::string>& overrides = {}) {
+  return loadTrackParams(Config::load(configPath("haren.yaml"), fixedExtent(overrides)).root());
+}
+
 }  // namespace railvib::track::test

@@ -281,18 +281,20 @@ double trackReproductionError(const std::vector<std::string>& overrides) {
   track::TrackStepper stepper(s.tp, s.pp.time_step_s);
   PassageBlock block;
   double worst = 0.0, scale = 0.0;
-  std::vector<track::PointLoad> loads(6);
+  const size_t nw = s.model.wheels().size();
+  std::vector<track::PointLoad> loads(nw);
   while (!run.finished()) {
     run.advance(500, block);
-    const int ns = block.sleeper_count;
+    const int ns = block.sleeper_count * block.rail_seat_count;  // seat-major, as ballastForcesPerSeat
     for (size_t k = 0; k < block.sampleCount(); ++k) {
-      for (int i = 0; i < 6; ++i) loads[i] = {block.wheel_x_m[k * 6 + i], block.contact_force_n[k * 6 + i]};
+      for (size_t i = 0; i < nw; ++i)
+        loads[i] = {block.wheel_x_m[k * nw + i], block.contact_force_n[k * nw + i], s.model.wheels()[i].rail};
       if (block.first_index + k == 0) {
         stepper.start(loads, 0.0, s.pp.convected_track_start ? s.pp.speed_m_s : 0.0);
       } else {
         stepper.step(loads);
       }
-      const auto& f = stepper.ballastForcesHalfTrack();
+      const auto& f = stepper.ballastForcesPerSeat();
       for (int j = 0; j < ns; ++j) {
         worst = std::max(worst, std::abs(f[j] - block.ballast_force_n[k * ns + j]));
         scale = std::max(scale, std::abs(f[j]));
@@ -308,6 +310,10 @@ TEST(VehiclePassage, TrackFedWithContactForcesReproducesBallastLoads) {
   // Convected start (v = -V du/dx): the track stepper must start the same way.
   EXPECT_LT(trackReproductionError({"simulation.duration_s=0.03", "simulation.front_axle_start_m=-0.1",
                                     "simulation.convected_track_start=true"}),
+            1e-9);
+  // Full width, the pad on the left rail: each rail seat's ballast force (what the track node streams).
+  EXPECT_LT(trackReproductionError({"simulation.duration_s=0.03", "simulation.front_axle_start_m=-0.1",
+                                    "track.width=full", "unevenness.defect.rails=left"}),
             1e-9);
 }
 
