@@ -204,14 +204,6 @@ class Run:
             # The soil mesh's resolved frequency, marked on the spectra (None for a bag without the record).
             scenario, _ = report.scenario_record(bag)
             self.mesh_f_max_hz = report.config_number((scenario or {}).get("config"), "soil.mesh.f_max_hz")
-            # The wheels' contact forces (when recorded): name, static (first sample), min and max per wheel.
-            self.wheels = []
-            cf = report.read_stream(bag, names.CONTACT_FORCES)
-            if cf:
-                nw = cf[0].wheel_count
-                f = report.stacked(cf, "force_n", nw)
-                wheel, _ = report.wheel_names((scenario or {}).get("config"), nw, list(cf[0].wheel_rail))
-                self.wheels = [(wheel[w], f[0, w], f[:, w].min(), f[:, w].max()) for w in range(nw)]
             self.section_t, self.section = [], []
             for _, m, _ in bag.read_messages(topics=[names.SECTION_SNAPSHOT]):
                 if len(m.vertical_velocity_m_s) != m.ny * len(m.depth_m):

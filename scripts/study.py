@@ -5,7 +5,7 @@ usage: ./railvib study [--file STUDY.yaml] [--vary KEY=V1,V2,...]... [--set KEY=
                        [--arg NAME:=VALUE]... [--scenario haren] [--config FILE] [--jobs N] [--outdir DIR]
 
 KEY is a launch argument of the scenario (speed, foundation, track, coupling, vehicle, duration,
-building) or a dotted config key (e.g. unevenness.defect.depth_m). --vary keys form a grid (every
+width, defect_rails, building) or a dotted config key (e.g. unevenness.defect.depth_m). --vary keys form a grid (every
 combination); --set and --arg hold for every run. A study file says the same in YAML:
 
     scenario: haren                 # launch file (launch/<scenario>.launch)
@@ -54,7 +54,8 @@ except ImportError:  # pragma: no cover
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 # The launch arguments the nodes map to config keys (src/ros/node_config.cpp) and the launch files'
 # own structural ones; anything else with no dot is refused.
-LAUNCH_ARGUMENTS = {"speed", "foundation", "duration", "track", "coupling", "vehicle", "building", "sim_time"}
+LAUNCH_ARGUMENTS = {"speed", "foundation", "duration", "track", "coupling", "vehicle", "width", "defect_rails", "building",
+                    "sim_time"}
 VERDICT = {0: "OK", 1: "WARN", 2: "ERROR"}
 UNITS = {"speed": "m/s", "duration": "s"}  # launch arguments; config keys carry their unit in the name
 COMPONENTS = ("x", "y", "z")
