@@ -153,7 +153,8 @@ class ScenarioChecks(unittest.TestCase):
         """width:=full (docs/validation.md, "One rail or both"). The pad on both rails: the graph's soil,
         house and sensor streams are the half model's; the soil loads per rail seat are half the half
         track's (both rails together). The pad on the left rail: a whole bag, the pad's wheel hits as
-        hard as with the pad on both rails, its partner on the smooth rail stays near its static load."""
+        hard as with the pad on both rails, its partner on the smooth rail stays near its static load; the
+        soil on 2 MPI ranks gives what it gives on one."""
         half = haren_run(self, "a")
         runs = {}
         for rails in ("both", "left"):
@@ -192,6 +193,17 @@ class ScenarioChecks(unittest.TestCase):
         self.assertLess(abs(left_peaks[0] / both_peaks[0] - 1.0), 0.05, (left_peaks[0], both_peaks[0]))
         self.assertGreater(left_peaks[0], 2.0 * static[0], "the pad's wheel did not hit the pad")
         self.assertLess(left_peaks[1], 1.5 * static[1], (left_peaks[1], static[1]))
+        # The seats' loads over 2 soil ranks (each rank builds its slab with the seats): as on one rank.
+        bag = WORK / "full_width_left_ranks2.bag"
+        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag), "width:=full",
+                            "defect_rails:=left", "soil_ranks:=2", self.MPIRUN], env_extra=self.MPI_ENV)
+        self.assertEqual(code, 0, out[-3000:])
+        for topic in (names.CONTACT_FORCES, names.SOIL_LOADS):
+            same, line = compare_topic(runs["left"], bag, topic)
+            self.assertTrue(same, line)
+        for topic in (names.SURFACE_VELOCITIES, names.BUILDING_RESPONSE, names.SENSOR_SAMPLES):
+            same, line = compare_topic(runs["left"], bag, topic, self.RANKS_TOLERANCE)
+            self.assertTrue(same, line)
 
     def test_killed_soil_rank_stops_the_launch_and_leaves_a_readable_bag(self):
         bag = WORK / "rank_killed.bag"
