@@ -2,7 +2,6 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <unistd.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <ctime>
@@ -10,6 +9,7 @@
 
 #include "railvib/common/names.hpp"
 #include "railvib/common/version.hpp"
+#include "railvib/io/scenario_record.hpp"
 #include "railvib/scenario/scenario.hpp"
 
 namespace railvib::ros_io {
@@ -111,22 +111,15 @@ std::string scenarioRecordYaml(ros::NodeHandle& nh, const Config& config) {
   gmtime_r(&now, &tm);
   std::strftime(utc, sizeof(utc), "%Y-%m-%dT%H:%M:%SZ", &tm);
 
-  YAML::Emitter out;
-  out << YAML::BeginMap;
-  out << YAML::Key << "railvib_version" << YAML::Value << railvibVersion();
-  out << YAML::Key << "command_line" << YAML::Value << command_line;
-  out << YAML::Key << "config_file" << YAML::Value << config_file;
-  out << YAML::Key << "launch_arguments" << YAML::Value << YAML::BeginMap;
-  for (const auto& [name, value] : arguments) out << YAML::Key << name << YAML::Value << value;
-  out << YAML::EndMap;
-  out << YAML::Key << "config_overrides" << YAML::Value << YAML::BeginSeq;
-  for (const auto& o : direct) out << o;
-  out << YAML::EndSeq;
-  out << YAML::Key << "host" << YAML::Value << host;
-  out << YAML::Key << "recorded_utc" << YAML::Value << utc;
-  out << YAML::Key << "config" << YAML::Value << YAML::Load(config.dump());
-  out << YAML::EndMap;
-  return out.c_str();
+  io::ScenarioRecordFields fields;
+  fields.railvib_version = railvibVersion();
+  fields.command_line = command_line;
+  fields.config_file = config_file;
+  fields.launch_arguments.assign(arguments.begin(), arguments.end());
+  fields.config_overrides = direct;
+  fields.host = host;
+  fields.recorded_utc = utc;
+  return io::scenarioRecordYaml(fields, config);
 }
 
 void reportStartFailure(const std::string& node, const std::string& message) {

@@ -23,8 +23,8 @@ namespace {
 std::string setupText(const Config& config, bool include_footprint) {
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "include_building_footprint" << YAML::Value << include_footprint << YAML::Key
-      << "config_file" << YAML::Value << config.file() << YAML::Key << "config" << YAML::Value << YAML::Literal
-      << config.dump() << YAML::EndMap;
+      << "config_file" << YAML::Value << YAML::DoubleQuoted << config.file() << YAML::Key << "config" << YAML::Value
+      << YAML::Literal << config.dump() << YAML::EndMap;
   return out.c_str();
 }
 
