@@ -102,7 +102,6 @@ class RigidBodyUnit final : public SolverUnit<Real> {
       for (int c = 0; c < 3; ++c) {
         ctx.fields.u[c][n] = static_cast<Real>(ua[c]);
         ctx.fields.v[c][n] = static_cast<Real>(va[c]);
-        ctx.fields.vf[c][n] = static_cast<Real>(vfa[c]);
         ctx.fields.w[c][n] = static_cast<Real>(ua[c] + core_.beta() * vfa[c]);
       }
     }

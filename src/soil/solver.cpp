@@ -20,8 +20,8 @@ constexpr size_t kMinParallelNodes = 20000;
 
 size_t solverMemoryBytes(const StructuredMesh& mesh, Precision precision) {
   const size_t real = precision == Precision::Float ? sizeof(float) : sizeof(double);
-  // u, v, vf, w, f (3 each), va, vb (3 each), mass
-  return mesh.nodeCount() * 22 * real + mesh.nz * 576 * real;
+  // u, v, w, f (3 each), va, vb (3 each), mass
+  return mesh.nodeCount() * 19 * real + mesh.nz * 576 * real;
 }
 
 struct Solver::Impl {
@@ -53,7 +53,9 @@ struct ImplT : Solver::Impl {
   size_t n = 0, sx = 0, sxy = 0;
   int threads = 1;
   Real dt = 0, beta = 0, e_filter = 0;
-  std::vector<Real> u[3], v[3], vf[3], w[3], f[3], va[3], vb[3];
+  // The damping filter's state beta vf is w - u: no array of its own (one read and one write stream
+  // less per component in the memory-bound nodal update).
+  std::vector<Real> u[3], v[3], w[3], f[3], va[3], vb[3];
   // One kernel on one rank; spread over ranks, the kernel in parts: first the forces on the shared planes
   // (they are sent), then the rest in pieces while the messages travel.
   std::unique_ptr<StiffnessKernel<Real>> kernel;
@@ -81,7 +83,6 @@ struct ImplT : Solver::Impl {
     for (int d = 0; d < 3; ++d) {
       u[d].assign(n, 0);
       v[d].assign(n, 0);
-      vf[d].assign(n, 0);
       w[d].assign(n, 0);
       f[d].assign(n, 0);
       va[d].resize(n);
@@ -106,7 +107,6 @@ struct ImplT : Solver::Impl {
     for (int d = 0; d < 3; ++d) {
       ctx.fields.u[d] = u[d].data();
       ctx.fields.v[d] = v[d].data();
-      ctx.fields.vf[d] = vf[d].data();
       ctx.fields.w[d] = w[d].data();
       ctx.fields.f[d] = f[d].data();
       ctx.fields.va[d] = va[d].data();
@@ -211,26 +211,27 @@ struct ImplT : Solver::Impl {
   }
 
   // Central difference with the diagonal damping semi-implicit; the damping filter; f cleared.
+  // The filter state is read as beta vf_n = w_n - u_n and written into w_{n+1}: its float round-off is
+  // that of w itself (eps |u|), damped by e each step.
   void updateNodes() {
-    const Real one_e = Real(1) - e_filter;
+    const Real beta_one_e = beta * (Real(1) - e_filter);
 #pragma omp parallel num_threads(threads) if (threads > 1 && n >= kMinParallelNodes)
     for (int d = 0; d < 3; ++d) {
       Real* __restrict ud = u[d].data();
       Real* __restrict vd = v[d].data();
-      Real* __restrict vfd = vf[d].data();
       Real* __restrict wd = w[d].data();
       Real* __restrict fd = f[d].data();
       const Real* __restrict vad = va[d].data();
       const Real* __restrict vbd = vb[d].data();
 #pragma omp for simd schedule(static)
       for (size_t i = 0; i < n; ++i) {
+        const Real u_old = ud[i];
+        const Real filtered_old = wd[i] - u_old;  // beta vf_n
         const Real vn = vad[i] * vd[i] + vbd[i] * fd[i];
         vd[i] = vn;
-        const Real un = ud[i] + dt * vn;
+        const Real un = u_old + dt * vn;
         ud[i] = un;
-        const Real fl = e_filter * vfd[i] + one_e * vn;
-        vfd[i] = fl;
-        wd[i] = un + beta * fl;
+        wd[i] = un + (e_filter * filtered_old + beta_one_e * vn);
         fd[i] = 0;
       }
     }
@@ -241,8 +242,9 @@ struct ImplT : Solver::Impl {
   }
   void set(int what, size_t node, int c, double value) override {
     if (what == 0) {
+      const Real filtered = w[c][node] - u[c][node];  // beta vf, kept
       u[c][node] = static_cast<Real>(value);
-      w[c][node] = u[c][node] + beta * vf[c][node];
+      w[c][node] = u[c][node] + filtered;
     } else {
       v[c][node] = static_cast<Real>(value);
     }

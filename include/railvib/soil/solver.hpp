@@ -7,6 +7,7 @@
 //   v_{n+1/2} = ((M/dt - C/2) v_{n-1/2} + f_n) / (M/dt + C/2)   (C diagonal)
 //   u_{n+1}   = u_n + dt v_{n+1/2}
 //   vf_{n+1}  = e vf_n + (1 - e) v_{n+1/2},  e = exp(-omega_c dt)
+// (vf has no array of its own: beta vf_n = w_n - u_n, and w_{n+1} carries vf_{n+1}.)
 // C is the diagonal damping of the boundary (Lysmer-Kuhlemeyer dashpots, a
 // graded mass-proportional layer; boundary.hpp); it is treated semi-
 // implicitly (no step limit). Boundaries that need more (a PML) and structures

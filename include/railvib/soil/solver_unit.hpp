@@ -28,11 +28,12 @@ namespace railvib::soil {
 template <class Real>
 struct NodalFields {
   size_t node_count = 0;
-  Real* u[3] = {nullptr, nullptr, nullptr};   // displacement u_n (u_{n+1} after the update)
-  Real* v[3] = {nullptr, nullptr, nullptr};   // half-step velocity v_{n-1/2} (v_{n+1/2} after)
-  Real* vf[3] = {nullptr, nullptr, nullptr};  // low-passed velocity of the Rayleigh damping filter
-  Real* w[3] = {nullptr, nullptr, nullptr};   // w = u + beta vf, the field the stiffness acts on
-  Real* f[3] = {nullptr, nullptr, nullptr};   // nodal force f_n being accumulated (N)
+  Real* u[3] = {nullptr, nullptr, nullptr};  // displacement u_n (u_{n+1} after the update)
+  Real* v[3] = {nullptr, nullptr, nullptr};  // half-step velocity v_{n-1/2} (v_{n+1/2} after)
+  // w = u + beta vf, the field the stiffness acts on; it also holds the state of the Rayleigh damping
+  // filter (the low-passed velocity vf = (w - u) / beta): a unit that sets u sets w with it.
+  Real* w[3] = {nullptr, nullptr, nullptr};
+  Real* f[3] = {nullptr, nullptr, nullptr};  // nodal force f_n being accumulated (N)
   /// Update coefficients v_{n+1/2} = va v_{n-1/2} + vb f_n (both 0 for a constrained component).
   const Real* va[3] = {nullptr, nullptr, nullptr};
   const Real* vb[3] = {nullptr, nullptr, nullptr};
