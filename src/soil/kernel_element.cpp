@@ -89,6 +89,15 @@ class ElementKernel final : public StiffnessKernel<Real> {
       for (size_t q = 0; q < 576; ++q) ke_[k * 576 + q] = static_cast<Real>(kd[q]);
     }
   }
+  ElementKernel(const StructuredMesh& mesh, const ElementBox& box, int threads,
+                const std::vector<double>& level_matrices)
+      : mesh_(mesh), box_(box), threads_(std::max(1, threads)) {
+    if (level_matrices.size() != mesh.nz * 576) {
+      throw std::invalid_argument("element kernel: " + std::to_string(level_matrices.size()) + " matrix entries for " +
+                                  std::to_string(mesh.nz) + " levels of 576");
+    }
+    ke_.assign(level_matrices.begin(), level_matrices.end());
+  }
 
   void apply(const Real* const in[3], Real* const out[3]) const override {
     if (box_.empty()) return;
@@ -147,6 +156,16 @@ std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, cons
   }
   throw std::invalid_argument("soil kernel '" + kernelName(kind) + "' is not available");
 }
+
+template <class Real>
+std::unique_ptr<StiffnessKernel<Real>> makeElementKernel(const StructuredMesh& mesh, const ElementBox& box, int threads,
+                                                         const std::vector<double>& level_matrices) {
+  return std::make_unique<ElementKernel<Real>>(mesh, box, threads, level_matrices);
+}
+template std::unique_ptr<StiffnessKernel<float>> makeElementKernel<float>(const StructuredMesh&, const ElementBox&, int,
+                                                                          const std::vector<double>&);
+template std::unique_ptr<StiffnessKernel<double>> makeElementKernel<double>(const StructuredMesh&, const ElementBox&,
+                                                                            int, const std::vector<double>&);
 
 template <class Real>
 SplitKernel<Real> makeSplitStiffnessKernel(KernelKind kind, const StructuredMesh& mesh, const ElementBox& box,

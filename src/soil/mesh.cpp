@@ -1,6 +1,7 @@
 #include "railvib/soil/mesh.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -99,7 +100,116 @@ StructuredMesh buildMesh(const std::vector<Layer>& profile, const MeshSpec& spec
     top = bottom;
   }
   mesh.nz = mesh.level_material.size();
+  addInclusions(mesh, spec.inclusions, spec.inclusion_snap_tolerance_m);
   return mesh;
+}
+
+const Material* StructuredMesh::elementMaterial(size_t i, size_t j, size_t k) const {
+  for (const MeshInclusion& inc : inclusions) {
+    if (inc.elements.contains(i, j, k)) return inc.is_void ? nullptr : &inc.material;
+  }
+  return &levelMaterial(k);
+}
+
+namespace {
+// The node plane nearest to `value` among planes[0..count] (uniform: origin + h q; else the list).
+struct Snapped {
+  size_t index;
+  double moved_m;
+};
+Snapped snapUniform(double value, double origin, double h, size_t count) {
+  const double s = std::round((value - origin) / h);
+  const size_t q = s <= 0.0 ? 0 : std::min(count, static_cast<size_t>(s));
+  return {q, std::abs(origin + h * static_cast<double>(q) - value)};
+}
+Snapped snapPlanes(double value, const std::vector<double>& planes) {
+  size_t best = 0;
+  for (size_t q = 1; q < planes.size(); ++q) {
+    if (std::abs(planes[q] - value) < std::abs(planes[best] - value)) best = q;
+  }
+  return {best, std::abs(planes[best] - value)};
+}
+}  // namespace
+
+MeshInclusion snapInclusion(const StructuredMesh& mesh, const InclusionSpec& spec, double tolerance_m) {
+  const std::string who = "soil inclusion '" + spec.name + "'";
+  const char* axis[3] = {"x", "y", "depth"};
+  const double lo_m[3] = {spec.x_min_m, spec.y_min_m, spec.top_m};
+  const double hi_m[3] = {spec.x_max_m, spec.y_max_m, spec.bottom_m};
+  const double mesh_lo[3] = {mesh.x0, mesh.y0, 0.0};
+  const double mesh_hi[3] = {mesh.xMax(), mesh.yMax(), mesh.depth()};
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(lo_m[a]) || !std::isfinite(hi_m[a])) {
+      throw InclusionError(who + ": a face along " + axis[a] + " is not a finite number", axis[a]);
+    }
+    if (!(hi_m[a] > lo_m[a])) {
+      throw InclusionError(who + ": an empty box along " + axis[a] + " (the far face must lie beyond the near one)",
+                           axis[a]);
+    }
+    // Faces on the mesh's own faces count as inside whatever the round-off of the node planes.
+    const double slack = 1e-9 * (1.0 + std::abs(mesh_lo[a]) + std::abs(mesh_hi[a]));
+    if (lo_m[a] < mesh_lo[a] - slack || hi_m[a] > mesh_hi[a] + slack) {
+      std::ostringstream why;
+      why << who << " spans " << axis[a] << " [" << lo_m[a] << ", " << hi_m[a] << "] m, not inside the soil mesh's ["
+          << mesh_lo[a] << ", " << mesh_hi[a] << "] m"
+          << (a == 2 ? " (deeper than the mesh, or above the surface)" : "");
+      throw InclusionError(why.str(), axis[a]);
+    }
+  }
+  const Snapped s[6] = {snapUniform(spec.x_min_m, mesh.x0, mesh.hx, mesh.nx),
+                        snapUniform(spec.x_max_m, mesh.x0, mesh.hx, mesh.nx),
+                        snapUniform(spec.y_min_m, mesh.y0, mesh.hy, mesh.ny),
+                        snapUniform(spec.y_max_m, mesh.y0, mesh.hy, mesh.ny),
+                        snapPlanes(spec.top_m, mesh.z),
+                        snapPlanes(spec.bottom_m, mesh.z)};
+  MeshInclusion inc;
+  inc.name = spec.name;
+  inc.is_void = spec.is_void;
+  inc.material = spec.material;
+  inc.rayleigh_beta_s = spec.rayleigh_beta_s;
+  inc.elements = {s[0].index, s[1].index, s[2].index, s[3].index, s[4].index, s[5].index};
+  // A box thinner than one element along an axis would vanish from the mesh or be inflated by the snapping.
+  double element[3] = {mesh.hx, mesh.hy, 1e300};
+  for (size_t k = 0; k < mesh.nz; ++k) {
+    if (mesh.z[k + 1] > spec.top_m && mesh.z[k] < spec.bottom_m)
+      element[2] = std::min(element[2], mesh.z[k + 1] - mesh.z[k]);
+  }
+  const size_t lo[3] = {inc.elements.i0, inc.elements.j0, inc.elements.k0};
+  const size_t hi[3] = {inc.elements.i1, inc.elements.j1, inc.elements.k1};
+  for (int a = 0; a < 3; ++a) {
+    const double extent = hi_m[a] - lo_m[a];
+    if (hi[a] <= lo[a] || extent < element[a] * (1.0 - 1e-9)) {
+      std::ostringstream why;
+      why << who << " is " << extent << " m thick along " << axis[a] << ", thinner than one element there ("
+          << element[a] << " m): refine the mesh (soil.mesh.f_max_hz, elements_per_wavelength, max_plane_size_m) "
+          << "or thicken the box";
+      throw InclusionError(why.str(), axis[a]);
+    }
+    const double moved = std::max(s[2 * a].moved_m, s[2 * a + 1].moved_m);
+    inc.moved_m = std::max(inc.moved_m, moved);
+    if (moved > tolerance_m) {
+      std::ostringstream why;
+      why << who << ": snapping it to the element faces would move a face along " << axis[a] << " by " << moved
+          << " m, more than the tolerance " << tolerance_m << " m (element size there " << element[a]
+          << " m): refine the mesh, move the box onto element faces or raise the tolerance";
+      throw InclusionError(why.str(), axis[a]);
+    }
+  }
+  return inc;
+}
+
+void addInclusions(StructuredMesh& mesh, const std::vector<InclusionSpec>& specs, double tolerance_m) {
+  for (const InclusionSpec& spec : specs) {
+    MeshInclusion inc = snapInclusion(mesh, spec, tolerance_m);
+    for (const MeshInclusion& other : mesh.inclusions) {
+      if (!inc.elements.intersect(other.elements).empty()) {
+        throw InclusionError("soil inclusions '" + other.name + "' and '" + inc.name +
+                                 "' overlap (as snapped to the mesh): inclusions must be disjoint",
+                             "");
+      }
+    }
+    mesh.inclusions.push_back(std::move(inc));
+  }
 }
 
 StructuredMesh buildUniformMesh(size_t nx, size_t ny, double hx, double hy, const std::vector<double>& z_planes,

@@ -52,6 +52,15 @@ StructuredMesh sliceMesh(const StructuredMesh& mesh, size_t i0, size_t i1) {
   StructuredMesh s = mesh;
   s.nx = i1 - i0;
   s.x0 = mesh.x(i0);
+  // The inclusions' parts in the slab, in its column indices.
+  s.inclusions.clear();
+  for (const MeshInclusion& inc : mesh.inclusions) {
+    ElementBox part = inc.elements.intersect({i0, i1, 0, mesh.ny, 0, mesh.nz});
+    if (part.empty()) continue;
+    MeshInclusion local = inc;
+    local.elements = {part.i0 - i0, part.i1 - i0, part.j0, part.j1, part.k0, part.k1};
+    s.inclusions.push_back(std::move(local));
+  }
   return s;
 }
 

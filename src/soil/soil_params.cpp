@@ -59,6 +59,41 @@ void readMesh(const ConfigNode& mesh, SoilParams& p) {
   p.solver.ranks = static_cast<int>(mesh.integer("ranks", 0, 4096, 0));
   p.solver.kernel = kernelFromName(mesh.choice("kernel", {"element", "stencil"}, "element"));
   p.max_memory_gb = mesh.number("max_memory_gb", Range::open(0.0, 1e4), 12.0);
+  p.mesh.inclusion_snap_tolerance_m = mesh.number("inclusion_snap_tolerance_m", Range::open(0.0, 1e3), 0.25);
+}
+
+// soil.inclusions: boxes of their own material or voids (trenches, walls, a meshed foundation), in
+// frame track (x along, y across towards the building) with depth_m [top, bottom] down from the surface.
+void readInclusions(const ConfigNode& soil, SoilParams& p) {
+  if (!soil.has("inclusions")) return;
+  for (const ConfigNode& n : soil.sectionList("inclusions")) {
+    InclusionSpec inc;
+    inc.name = n.text("name");
+    for (const InclusionSpec& other : p.mesh.inclusions) {
+      if (other.name == inc.name) n.fail("name", "'" + inc.name + "' names two inclusions");
+    }
+    inc.is_void = n.choice("kind", {"void", "material"}) == "void";
+    const std::vector<double> x = n.numbers("x_m", Range::open(-1e5, 1e5), 2, 2);
+    const std::vector<double> y = n.numbers("y_m", Range::open(-1e5, 1e5), 2, 2);
+    const std::vector<double> d = n.numbers("depth_m", Range::closed(0.0, 1e5), 2, 2);
+    if (!(x[1] > x[0])) n.fail("x_m", "the second value (the box's end) must exceed the first");
+    if (!(y[1] > y[0])) n.fail("y_m", "the second value (the box's far side) must exceed the first");
+    if (!(d[1] > d[0])) n.fail("depth_m", "the second value (the bottom) must be deeper than the first (the top)");
+    inc.x_min_m = x[0], inc.x_max_m = x[1], inc.y_min_m = y[0], inc.y_max_m = y[1];
+    inc.top_m = d[0], inc.bottom_m = d[1];
+    if (!inc.is_void) {
+      const ConfigNode m = n.section("material");
+      inc.material = readMaterial(m);
+      inc.rayleigh_beta_s = m.number("rayleigh_beta_s", Range{0.0, 1.0, false, true}, -1.0);
+      if (inc.rayleigh_beta_s >= 0.0 && inc.rayleigh_beta_s != p.solver.rayleigh_beta_s &&
+          !(p.solver.rayleigh_beta_s > 0.0)) {
+        m.fail("rayleigh_beta_s",
+               "an inclusion's own Rayleigh coefficient needs the soil's damping filter "
+               "(soil.rayleigh_beta_s > 0); leave it out to take the soil's");
+      }
+    }
+    p.mesh.inclusions.push_back(inc);
+  }
 }
 
 // The boundary's absorbing zone (e.g. a graded layer): receivers and loads stay out of it.
@@ -167,21 +202,68 @@ void checkReceivers(const ConfigNode& soil, const SoilParams& p) {
   }
 }
 
+// Each inclusion snapped to the mesh (within the tolerance, at least an element thick), disjoint from
+// the others, off the boundary; no void under the track's sleepers or at a receiver.
+void checkInclusions(const ConfigNode& soil, const SoilParams& p, StructuredMesh& m, const SoilBoundary& boundary) {
+  if (p.mesh.inclusions.empty()) return;
+  const std::vector<ConfigNode> nodes = soil.sectionList("inclusions");
+  for (size_t q = 0; q < p.mesh.inclusions.size(); ++q) {
+    const InclusionSpec& spec = p.mesh.inclusions[q];
+    try {
+      addInclusions(m, {spec}, p.mesh.inclusion_snap_tolerance_m);
+      StructuredMesh one = m;
+      one.inclusions = {m.inclusions.back()};
+      checkInclusionsInside(one, p.solver.absorbing, boundary);
+    } catch (const InclusionError& e) {
+      nodes[q].fail(e.axis().empty() ? "name" : e.axis() + "_m", e.what());
+    }
+    if (!spec.is_void) continue;
+    const MeshInclusion& inc = m.inclusions.back();
+    const double x0 = m.x(inc.elements.i0), x1 = m.x(inc.elements.i1);
+    const double y0 = m.y(inc.elements.j0), y1 = m.y(inc.elements.j1);
+    const double top = m.z[inc.elements.k0], bottom = m.z[inc.elements.k1];
+    const double half_length = 0.5 * p.track.length_m;
+    if (top == 0.0 && y0 < half_length && y1 > -half_length) {
+      std::ostringstream why;
+      why << "the void '" << spec.name << "' opens at the surface across y [" << y0 << ", " << y1
+          << "] m as meshed, under the track's sleepers (|y| <= " << half_length
+          << " m): a trench through the track carries no load";
+      nodes[q].fail("y_m", why.str());
+    }
+    for (const ReceiverSpec& r : p.receivers) {
+      const double depth = -r.z_m;
+      const bool in_void = r.x_m > x0 && r.x_m < x1 && r.y_m > y0 && r.y_m < y1 &&
+                           (depth > top || (top == 0.0 && depth == 0.0)) && depth < bottom;
+      if (in_void) {
+        std::ostringstream why;
+        why << "the void '" << spec.name << "' (x [" << x0 << ", " << x1 << "], y [" << y0 << ", " << y1 << "], depth ["
+            << top << ", " << bottom << "] m as meshed) holds receiver '" << r.name << "' (from " << r.origin
+            << ") at (" << r.x_m << ", " << r.y_m << ", " << r.z_m << ") m: no soil there to move";
+        nodes[q].fail("y_m", why.str());
+      }
+    }
+  }
+}
+
 // The boundary must fit the mesh, and the mesh soil.mesh.max_memory_gb: checked before anything is allocated.
 void checkMemory(const ConfigNode& soil, const SoilParams& p) {
   const ConfigNode mesh = soil.section("mesh");
   StructuredMesh m;
+  MeshSpec plain = p.mesh;
+  plain.inclusions.clear();
   try {
-    m = buildMesh(p.profile, p.mesh);
+    m = buildMesh(p.profile, plain);
   } catch (const std::invalid_argument& e) {
     mesh.fail("f_max_hz", e.what());
   }
   // The boundary on this mesh (e.g. a PML must be at least one element thick).
+  const std::unique_ptr<SoilBoundary> boundary = makeSoilBoundary(p.solver.boundary);
   try {
-    makeSoilBoundary(p.solver.boundary)->kernelElements(BoundaryContext{&m, nullptr, p.solver.absorbing});
+    boundary->kernelElements(BoundaryContext{&m, nullptr, p.solver.absorbing});
   } catch (const std::invalid_argument& e) {
     soil.section("boundary").section(absorbingZone(p.solver).key).fail("thickness_m", e.what());
   }
+  checkInclusions(soil, p, m, *boundary);
   const double bytes = static_cast<double>(solverMemoryBytes(m, p.solver.precision)) +
                        static_cast<double>(m.nodeCount()) * sizeof(double) +
                        static_cast<double>((m.nx + 1) * (m.ny + 1)) * 3.0 * sizeof(double);
@@ -213,6 +295,7 @@ SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
   readProfileAndDamping(soil, p);
   readMesh(soil.section("mesh"), p);
   readBoundary(soil.section("boundary"), p);
+  readInclusions(soil, p);
   readOutputAndLoads(soil, p);
   p.track = loadTrackLayout(root);
   collectReceivers(root, house, p);

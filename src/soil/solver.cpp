@@ -6,8 +6,11 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 
+#include "inclusion_unit.hpp"
 #include "rigid_body_unit.hpp"
 
 namespace railvib::soil {
@@ -32,6 +35,8 @@ struct Solver::Impl {
   /// Spread over ranks: the communicator and partition (before setKernel).
   virtual void setPartition(SoilComm* comm, const SlabPartition& partition) = 0;
   virtual void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) = 0;
+  /// The unit of the mesh's material inclusions (inclusion_unit.hpp), after the boundary's.
+  virtual void addInclusions(double soil_beta_s) = 0;
   virtual double kernelMultiplyAdds() const = 0;
   virtual size_t attachRigidBody(const RigidBodySpec& spec, const StructuredMesh& global_mesh,
                                  const std::vector<double>& global_mass) = 0;
@@ -65,6 +70,7 @@ struct ImplT : Solver::Impl {
   std::vector<Real> send_low, send_high, recv_low, recv_high;
   std::vector<std::unique_ptr<SolverUnit<Real>>> units;
   std::vector<const RigidBodyUnit<Real>*> bodies;
+  const InclusionUnit<Real>* inclusions = nullptr;
   StepContext<Real> ctx;
 
   void init(const StructuredMesh& m, const SolverOptions& o, double dt_s, const std::vector<double>& mass,
@@ -89,8 +95,9 @@ struct ImplT : Solver::Impl {
       vb[d].resize(n);
       for (size_t i = 0; i < n; ++i) {
         const double a = mass[i] / dt_s;
+        // A node with no mass lies inside a void (MeshSpec::inclusions): no element moves it.
         const bool fixed =
-            (o.lateral_rollers && d < 2) || (o.fixed_bottom && i >= n - sxy) ||
+            mass[i] == 0.0 || (o.lateral_rollers && d < 2) || (o.fixed_bottom && i >= n - sxy) ||
             (o.symmetry_x_min && d == 0 && i % sx == 0) || (o.symmetry_y_min && d == 1 && (i % sxy) / sx == 0) ||
             (o.antisymmetry_x_min && d != 0 && i % sx == 0) || (o.antisymmetry_y_min && d != 1 && (i % sxy) / sx == 0);
         va[d][i] = fixed ? Real(0) : static_cast<Real>((a - 0.5 * c[d][i]) / (a + 0.5 * c[d][i]));
@@ -153,6 +160,11 @@ struct ImplT : Solver::Impl {
     }
   }
   void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) override;
+  void addInclusions(double soil_beta_s) override {
+    auto unit = std::make_unique<InclusionUnit<Real>>(*mesh, soil_beta_s, threads);
+    inclusions = unit.get();
+    units.push_back(std::move(unit));
+  }
 
   double kernelMultiplyAdds() const override {
     return kernel ? kernel->multiplyAddsPerApply() : split.multiplyAddsPerApply();
@@ -257,6 +269,7 @@ struct ImplT : Solver::Impl {
     if (kernel) kernel->apply(in, out);
     for (const auto& k : split.faces) k->apply(in, out);
     for (const auto& k : split.rest) k->apply(in, out);
+    if (inclusions) inclusions->addStiffness(in, out);
     out_f.resize(3 * n);
     for (size_t i = 0; i < n; ++i) {
       for (int d = 0; d < 3; ++d) out_f[3 * i + static_cast<size_t>(d)] = static_cast<double>(tmp[d][i]);
@@ -288,12 +301,19 @@ struct SolverExtra {
   std::vector<double> values;
 };
 
+// Each element's mass to its 8 corners, with the element's own material (an inclusion's, none in a void).
 static std::vector<double> lumpedMass(const StructuredMesh& m) {
   std::vector<double> mass(m.nodeCount(), 0.0);
   for (size_t k = 0; k < m.nz; ++k) {
-    const double me = m.levelMaterial(k).density_kg_m3 * m.hx * m.hy * (m.z[k + 1] - m.z[k]) / 8.0;
+    const double volume = m.hx * m.hy * (m.z[k + 1] - m.z[k]) / 8.0;
+    const double me_level = m.levelMaterial(k).density_kg_m3 * volume;
     for (size_t j = 0; j < m.ny; ++j) {
       for (size_t i = 0; i < m.nx; ++i) {
+        double me = me_level;
+        if (!m.inclusions.empty()) {
+          const Material* mat = m.elementMaterial(i, j, k);
+          me = mat ? mat->density_kg_m3 * volume : 0.0;
+        }
         for (size_t c = 0; c < 8; ++c) mass[m.node(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] += me;
       }
     }
@@ -325,6 +345,7 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options, std::shared_pt
     options_.threads = std::max(1, omp_get_num_procs() / comm_->ranksOnThisHost());
   }
   boundary_ = makeSoilBoundary(options_.boundary);
+  if (!g.inclusions.empty()) checkInclusionsInside(g, options.absorbing, *boundary_);
   partition_ =
       makeSlabPartition(g.nx, comm_->size(), comm_->rank(), 2, endSlabColumns(g, *boundary_, options_.absorbing));
   if (partition_.single()) {
@@ -360,6 +381,7 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options, std::shared_pt
   impl_->setPartition(comm_.get(), partition_);
   impl_->setKernel(options_.kernel, kernel_box_);
   impl_->addUnit(*boundary_, bc);
+  if (!mesh_.inclusions.empty()) impl_->addInclusions(options_.rayleigh_beta_s);
 }
 
 // A nodal quantity of the slab's elements summed with the neighbours' at the shared planes (set-up).
@@ -404,6 +426,49 @@ bool Solver::ownsPoint(double x_m) const {
   return partition_.ownerOfColumn(i) == partition_.rank;
 }
 
+// An inclusion is integrated with the kernel's elements, inside the boundary's zone and off the
+// absorbing faces (their dashpots and layers are set from the level materials).
+void checkInclusionsInside(const StructuredMesh& global, const AbsorbingFaces& faces, const SoilBoundary& boundary) {
+  ElementBox inner = boundary.kernelElements(BoundaryContext{&global, nullptr, faces});
+  // The boundary's zone (a damping layer integrated by the kernel too), and at least one element.
+  const double zone = boundary.zoneThicknessM();
+  const size_t zx = std::max<size_t>(1, static_cast<size_t>(std::ceil(zone / global.hx - 1e-9)));
+  const size_t zy = std::max<size_t>(1, static_cast<size_t>(std::ceil(zone / global.hy - 1e-9)));
+  const AbsorbingFaces& f = faces;
+  if (f.x_min) inner.i0 = std::max(inner.i0, zx);
+  if (f.x_max) inner.i1 = std::min(inner.i1, global.nx > zx ? global.nx - zx : 0);
+  if (f.y_min) inner.j0 = std::max(inner.j0, zy);
+  if (f.y_max) inner.j1 = std::min(inner.j1, global.ny > zy ? global.ny - zy : 0);
+  if (f.bottom) {
+    const double floor_m = boundary.zoneAlongBottom() ? global.depth() - zone : global.depth();
+    size_t k1 = 0;
+    while (k1 + 1 < global.nz && global.z[k1 + 1] <= floor_m + 1e-9) ++k1;
+    inner.k1 = std::min(inner.k1, k1);
+  }
+  for (const MeshInclusion& inc : global.inclusions) {
+    const ElementBox& e = inc.elements;
+    const struct {
+      const char* axis;
+      bool inside;
+      double lo, hi, room_lo, room_hi;
+    } axes[3] = {{"x", e.i0 >= inner.i0 && e.i1 <= inner.i1, global.x(e.i0), global.x(e.i1), global.x(inner.i0),
+                  global.x(inner.i1)},
+                 {"y", e.j0 >= inner.j0 && e.j1 <= inner.j1, global.y(e.j0), global.y(e.j1), global.y(inner.j0),
+                  global.y(inner.j1)},
+                 {"depth", e.k0 >= inner.k0 && e.k1 <= inner.k1, global.z[e.k0], global.z[e.k1], global.z[inner.k0],
+                  global.z[inner.k1]}};
+    for (const auto& a : axes) {
+      if (a.inside) continue;
+      std::ostringstream why;
+      why << "soil inclusion '" << inc.name << "' spans " << a.axis << " [" << a.lo << ", " << a.hi
+          << "] m as meshed, into the absorbing boundary (" << boundaryMethodName(boundary.method())
+          << ") or onto an absorbing face: inclusions stay within " << a.axis << " [" << a.room_lo << ", " << a.room_hi
+          << "] m; enlarge the soil box";
+      throw InclusionError(why.str(), a.axis);
+    }
+  }
+}
+
 // Irons' element bound on lambda_max(M^-1 K) gives the undamped limit; the filtered Rayleigh damping and
 // the boundary may lower it.
 void Solver::computeStabilityLimits() {
@@ -412,12 +477,24 @@ void Solver::computeStabilityLimits() {
     lam =
         std::max(lam, boxElementMaxEigenvalue(mesh_.hx, mesh_.hy, mesh_.z[k + 1] - mesh_.z[k], mesh_.levelMaterial(k)));
   }
-  const double omega_max = std::sqrt(lam);
-  dt_undamped_ = 2.0 / omega_max;
   const double beta = options_.rayleigh_beta_s;
   const double omega_c = 2.0 * M_PI * options_.damping_cutoff_hz;
+  // An inclusion's elements with their own material and Rayleigh coefficient (a void has none).
+  double dt_inclusions = std::numeric_limits<double>::infinity();
+  for (const MeshInclusion& inc : mesh_.inclusions) {
+    if (inc.is_void) continue;
+    const double beta_i = inc.rayleigh_beta_s >= 0.0 ? inc.rayleigh_beta_s : beta;
+    for (size_t k = inc.elements.k0; k < inc.elements.k1; ++k) {
+      const double lam_i = boxElementMaxEigenvalue(mesh_.hx, mesh_.hy, mesh_.z[k + 1] - mesh_.z[k], inc.material);
+      lam = std::max(lam, lam_i);
+      dt_inclusions = std::min(dt_inclusions, 2.0 / std::sqrt(lam_i) / std::sqrt(1.0 + beta_i * omega_c));
+    }
+  }
+  const double omega_max = std::sqrt(lam);
+  dt_undamped_ = 2.0 / omega_max;
   const BoundaryContext bc{&mesh_, &extra_->mass, options_.absorbing};
-  dt_damped_ = std::min(dt_undamped_ / std::sqrt(1.0 + beta * omega_c), boundary_->stableStepLimitS(bc));
+  dt_damped_ =
+      std::min({dt_undamped_ / std::sqrt(1.0 + beta * omega_c), dt_inclusions, boundary_->stableStepLimitS(bc)});
   if (!partition_.single()) dt_damped_ = comm_->minimum(dt_damped_);
   const double xi = beta * omega_max / 2.0;
   dt_naive_ = dt_undamped_ * (std::sqrt(1.0 + xi * xi) - xi);
@@ -481,6 +558,10 @@ size_t Solver::addForceChannel(ForceChannel channel) {
       throw std::invalid_argument("soil solver: force channel node " + std::to_string(channel.nodes[q]) +
                                   " / component " + std::to_string(channel.components[q]) + " outside the mesh");
     }
+    if (extra_->mass[channel.nodes[q]] == 0.0 && channel.weights[q] != 0.0) {
+      throw std::invalid_argument("soil solver: a load on node " + std::to_string(channel.nodes[q]) +
+                                  ", inside a void of the soil (MeshSpec::inclusions): no soil there to carry it");
+    }
   }
   extra_->channels.push_back(std::move(channel));
   extra_->values.push_back(0.0);
@@ -500,6 +581,17 @@ void Solver::step() {
 double Solver::kernelMultiplyAddsPerStep() const { return impl_->kernelMultiplyAdds(); }
 
 size_t Solver::attachRigidBody(const RigidBodySpec& spec) {
+  // A body carries the soil of its region: a void there would leave it nodes without soil.
+  const StructuredMesh& g = global_mesh_;
+  for (const MeshInclusion& inc : g.inclusions) {
+    const ElementBox& e = inc.elements;
+    const bool overlaps = inc.is_void && g.x(e.i0) < spec.x_max_m && g.x(e.i1) > spec.x_min_m &&
+                          g.y(e.j0) < spec.y_max_m && g.y(e.j1) > spec.y_min_m && g.z[e.k0] <= spec.depth_m;
+    if (overlaps) {
+      throw std::invalid_argument("soil solver: the void '" + inc.name + "' lies in the region of the rigid body '" +
+                                  spec.name + "'");
+    }
+  }
   if (partition_.single()) return impl_->attachRigidBody(spec, global_mesh_, extra_->mass);
   // The body is the same on every rank (its nodes may lie in several slabs): built on the whole mesh.
   return impl_->attachRigidBody(spec, global_mesh_, lumpedMass(global_mesh_));

@@ -44,11 +44,35 @@ constexpr size_t kCut = kNx / 2;  // 2 balanced slabs: element columns [0, 24) a
 // Haren layers 1-2 over a half-space, 0.25 m in plane, 20 levels: 48 x 40 x 20 = 38 400 elements.
 StructuredMesh layeredMesh() { return railvib::soil::testing::layeredTestMesh(kNx, kNy); }
 
+// Across the cut (column 24), off the 2 m graded layer (columns and rows 8..40 / 8..32): an open trench
+// (columns 16..32, rows 22..24, 1 m deep) and a buried concrete wall damped by its own Rayleigh
+// coefficient (columns 18..30, rows 9..11, depth 0.4-2.1 m).
+StructuredMesh meshWithInclusions() {
+  StructuredMesh m = layeredMesh();
+  InclusionSpec trench;
+  trench.name = "trench";
+  trench.is_void = true;
+  trench.x_min_m = -6.0 + 16 * 0.25, trench.x_max_m = -6.0 + 32 * 0.25;
+  trench.y_min_m = -5.0 + 22 * 0.25, trench.y_max_m = -5.0 + 24 * 0.25;
+  trench.top_m = 0.0, trench.bottom_m = 1.0;
+  InclusionSpec wall = trench;
+  wall.name = "wall";
+  wall.is_void = false;
+  wall.material = {20.0e9, 2400.0, 0.2};
+  wall.rayleigh_beta_s = 1.0e-5;
+  wall.x_min_m = -6.0 + 18 * 0.25, wall.x_max_m = -6.0 + 30 * 0.25;
+  wall.y_min_m = -5.0 + 9 * 0.25, wall.y_max_m = -5.0 + 11 * 0.25;
+  wall.top_m = 0.4, wall.bottom_m = 2.1;
+  addInclusions(m, {trench, wall}, 1e-9);
+  return m;
+}
+
 struct Case {
   BoundaryMethod boundary = BoundaryMethod::GradedLayer;
   KernelKind kernel = KernelKind::Element;
   Precision precision = Precision::Float;
   bool rigid_body = false;
+  bool inclusions = false;
 };
 
 SolverOptions options(const Case& c) {
@@ -102,7 +126,7 @@ std::vector<double> gatherNodes(const Solver& s, bool displacement) {
 
 // Loads: one patch on the shared plane (columns 22..26), one in each slab.
 Result run(const Case& c, std::shared_ptr<SoilComm> comm) {
-  Solver s(layeredMesh(), options(c), std::move(comm));
+  Solver s(c.inclusions ? meshWithInclusions() : layeredMesh(), options(c), std::move(comm));
   if (c.rigid_body) s.attachRigidBody(foundation());
   const StructuredMesh& m = s.mesh();
   const size_t patches[3][2] = {{22, 18}, {10, 12}, {34, 26}};
@@ -210,6 +234,14 @@ TEST(SoilMpi, PmlStencilKernelAgreesWithOneRank) {
 TEST(SoilMpi, RigidBodyAcrossTheCutAgreesWithOneRank) {
   expectAgreesWithOneRank({BoundaryMethod::Dashpots, KernelKind::Element, Precision::Float, true},
                           "dashpots, element, rigid body across the cut");
+}
+
+TEST(SoilMpi, InclusionsAcrossTheCutAgreeWithOneRank) {
+  for (KernelKind kernel : {KernelKind::Element, KernelKind::Stencil}) {
+    expectAgreesWithOneRank({BoundaryMethod::GradedLayer, kernel, Precision::Float, false, true},
+                            kernel == KernelKind::Element ? "graded layer, element, trench and wall across the cut"
+                                                          : "graded layer, stencil, trench and wall across the cut");
+  }
 }
 
 TEST(SoilMpi, FixedDecompositionIsBitwiseReproducible) {

@@ -47,6 +47,13 @@ template <class Real>
 std::unique_ptr<StiffnessKernel<Real>> makeStiffnessKernel(KernelKind kind, const StructuredMesh& mesh,
                                                            const ElementBox& box, int threads);
 
+/// The KernelKind::Element kernel of `box` with a 24 x 24 matrix of its own per element level k
+/// (level_matrices[k * 576 + q], row-major, nz levels) instead of the mesh's level materials': e.g. the
+/// stiffness a material inclusion adds to the elements it holds (soil/inclusion_unit.hpp).
+template <class Real>
+std::unique_ptr<StiffnessKernel<Real>> makeElementKernel(const StructuredMesh& mesh, const ElementBox& box, int threads,
+                                                         const std::vector<double>& level_matrices);
+
 /// A kernel in parts, for a slab spread over ranks (solver.cpp): `faces` completes the forces on the nodes of the
 /// mesh's node planes i = 0 (low_face) and i = nx (high_face), which are sent to the neighbours; `rest` is the
 /// remaining work in pieces, applied while the messages travel. Applying faces, then every piece of rest, gives

@@ -78,6 +78,11 @@ struct SolverOptions {
 /// Bytes of state the solver allocates for a mesh (checked before allocation).
 size_t solverMemoryBytes(const StructuredMesh& mesh, Precision precision);
 
+/// The mesh's inclusions must lie off the absorbing faces and outside the boundary's zone (its
+/// dashpots and layers are set from the level materials). Throws std::invalid_argument naming the
+/// first that does not, with the room there is.
+void checkInclusionsInside(const StructuredMesh& mesh, const AbsorbingFaces& faces, const SoilBoundary& boundary);
+
 /// A sparse set of nodal force weights driven by one scalar channel:
 /// f[node][component] += weight * value(channel).
 struct ForceChannel {

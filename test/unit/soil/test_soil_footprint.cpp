@@ -136,7 +136,7 @@ TEST(FootprintCompliance, ShortRunIsLinearAndSymmetric) {
 // The footprint's consistent loads sum to the force and its mean of a uniform field is that field.
 TEST(FootprintCompliance, FootprintWeightsAreAUnitLoad) {
   const StructuredMesh m =
-      buildMesh({{1.0, kSoil}, {0.0, kSoil}}, MeshSpec{-3.0, 3.0, -2.0, 2.0, 3.0, 20.0, 8.0, 0.25});
+      buildMesh({{1.0, kSoil}, {0.0, kSoil}}, MeshSpec{-3.0, 3.0, -2.0, 2.0, 3.0, 20.0, 8.0, 0.25, {}, 0.25});
   railvib::TrackLayout layout;
   layout.length_m = 2.6;
   layout.width_m = 0.25;
@@ -181,7 +181,7 @@ TEST(FootprintCompliance, BadSpecsAreRefused) {
 // footprint's.
 TEST(FootprintCompliance, RailSeatWeightsPutTheLoadAtTheSeat) {
   const StructuredMesh m =
-      buildMesh({{1.0, kSoil}, {0.0, kSoil}}, MeshSpec{-3.0, 3.0, -2.0, 2.0, 3.0, 20.0, 8.0, 0.25});
+      buildMesh({{1.0, kSoil}, {0.0, kSoil}}, MeshSpec{-3.0, 3.0, -2.0, 2.0, 3.0, 20.0, 8.0, 0.25, {}, 0.25});
   railvib::TrackLayout layout;
   layout.length_m = 2.6;
   layout.width_m = 0.25;
