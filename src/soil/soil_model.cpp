@@ -130,6 +130,26 @@ nlohmann::json bodiesSummary(const Solver& s) {
 }
 }  // namespace
 
+nlohmann::json inclusionsSummary(const StructuredMesh& m) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const MeshInclusion& inc : m.inclusions) {
+    nlohmann::json j = {{"name", inc.name},
+                        {"kind", inc.is_void ? "void" : "material"},
+                        {"elements", inc.elements.count()},
+                        {"moved_m", inc.moved_m},
+                        {"x_m", {m.x(inc.elements.i0), m.x(inc.elements.i1)}},
+                        {"y_m", {m.y(inc.elements.j0), m.y(inc.elements.j1)}},
+                        {"depth_m", {m.z[inc.elements.k0], m.z[inc.elements.k1]}}};
+    if (!inc.is_void) {
+      j["vs_m_s"] = inc.material.vs();
+      j["vp_m_s"] = inc.material.vp();
+      if (inc.rayleigh_beta_s >= 0.0) j["rayleigh_beta_s"] = inc.rayleigh_beta_s;
+    }
+    out.push_back(j);
+  }
+  return out;
+}
+
 nlohmann::json SoilModel::summary() const {
   const Solver& s = *solver_;
   const StructuredMesh& m = s.mesh();
@@ -154,6 +174,7 @@ nlohmann::json SoilModel::summary() const {
           {"hy_m", m.hy},
           {"box_m", {{m.x0, m.xMax()}, {m.y0, m.yMax()}, {0.0, m.depth()}}},
           {"layers", layers},
+          {"inclusions", inclusionsSummary(m)},
           {"boundary", s.boundary().summary()},
           {"kernel", kernelName(s.kernel())},
           {"dt_s", s.dt()},

@@ -430,10 +430,11 @@ bool Solver::ownsPoint(double x_m) const {
 // absorbing faces (their dashpots and layers are set from the level materials).
 void checkInclusionsInside(const StructuredMesh& global, const AbsorbingFaces& faces, const SoilBoundary& boundary) {
   ElementBox inner = boundary.kernelElements(BoundaryContext{&global, nullptr, faces});
-  // The boundary's zone (a damping layer integrated by the kernel too), and at least one element.
+  // The boundary's zone (a damping layer integrated by the kernel too: the elements wholly in it; a PML's
+  // are already outside the kernel's box), and at least one element.
   const double zone = boundary.zoneThicknessM();
-  const size_t zx = std::max<size_t>(1, static_cast<size_t>(std::ceil(zone / global.hx - 1e-9)));
-  const size_t zy = std::max<size_t>(1, static_cast<size_t>(std::ceil(zone / global.hy - 1e-9)));
+  const size_t zx = std::max<size_t>(1, static_cast<size_t>(std::floor(zone / global.hx + 1e-6)));
+  const size_t zy = std::max<size_t>(1, static_cast<size_t>(std::floor(zone / global.hy + 1e-6)));
   const AbsorbingFaces& f = faces;
   if (f.x_min) inner.i0 = std::max(inner.i0, zx);
   if (f.x_max) inner.i1 = std::min(inner.i1, global.nx > zx ? global.nx - zx : 0);

@@ -1,5 +1,6 @@
-// railvib_tool soil commands: soil-bench column|damping|throughput|lamb|reflection|reflection-layered, soil.
+// railvib_tool soil commands: soil-bench column|damping|throughput|lamb|reflection|reflection-layered|void-peer, soil.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -17,6 +18,7 @@
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/coupling/house_foundation.hpp"
 #include "railvib/io/csv.hpp"
+#include "railvib/soil/calculix_peer.hpp"
 #include "railvib/soil/lamb.hpp"
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
@@ -459,6 +461,142 @@ void benchRanks(const BenchArgs& a, json& out) {
   std::cerr << t.str();
 }
 
+// The cost of the configured inclusions (e.g. --set 'soil.inclusions=[{name: trench, ...}]'): the same
+// mesh and solver without and with them, stepped alternately; per step and per simulated second (a stiff
+// inclusion lowers the stable step).
+void benchInclusions(const BenchArgs& a, json& out) {
+  const Config cfg = loadConfig(a.p);
+  const SoilParams sp = loadSoilParams(cfg.root());
+  if (sp.mesh.inclusions.empty()) {
+    throw ArgError(
+        "soil-bench inclusions: the configuration has no soil.inclusions; give them with --set "
+        "'soil.inclusions=[{name: trench, kind: void, x_m: [-15, 15], y_m: [3, 4], depth_m: [0, 4]}]'");
+  }
+  const int steps = static_cast<int>(a.p.getInt("steps")), repeat = static_cast<int>(a.p.getInt("repeat"));
+  if (steps < 1 || steps > 100000 || repeat < 1 || repeat > 1000) {
+    throw ArgError("soil-bench inclusions: --steps in [1, 100000], --repeat in [1, 1000]");
+  }
+  MeshSpec plain = sp.mesh;
+  plain.inclusions.clear();
+  Solver without(buildMesh(sp.profile, plain), sp.solver);
+  Solver with(buildMesh(sp.profile, sp.mesh), sp.solver);
+  auto timeSteps = [steps](Solver& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    s.run(static_cast<uint64_t>(steps));
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / steps;
+  };
+  timeSteps(without), timeSteps(with);  // warm up
+  std::vector<double> t_without, t_with, ratio;
+  for (int r = 0; r < repeat; ++r) {
+    // Alternate the order: a drift of the machine's speed falls on both.
+    double tw = 0.0, ti = 0.0;
+    if (r % 2 == 0) {
+      tw = timeSteps(without), ti = timeSteps(with);
+    } else {
+      ti = timeSteps(with), tw = timeSteps(without);
+    }
+    t_without.push_back(tw), t_with.push_back(ti), ratio.push_back(ti / tw);
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  const StructuredMesh& m = with.mesh();
+  size_t elements = 0;
+  for (const MeshInclusion& inc : m.inclusions) elements += inc.elements.count();
+  const double step_ratio = median(ratio);
+  out["config"] = cfg.file();
+  out["mesh"] = {{"nx", m.nx}, {"ny", m.ny}, {"nz", m.nz}, {"elements", m.elementCount()}};
+  out["inclusions"] = inclusionsSummary(m);
+  out["inclusion_elements"] = elements;
+  out["kernel"] = kernelName(sp.solver.kernel);
+  out["precision"] = precisionName(sp.solver.precision);
+  out["dt_without_s"] = without.dt();
+  out["dt_with_s"] = with.dt();
+  out["step_s_without_median"] = median(t_without);
+  out["step_s_with_median"] = median(t_with);
+  out["step_ratio_median"] = step_ratio;
+  out["step_ratio_min_max"] = {*std::min_element(ratio.begin(), ratio.end()),
+                               *std::max_element(ratio.begin(), ratio.end())};
+  out["simulated_second_ratio"] = step_ratio * without.dt() / with.dt();
+  out["steps"] = steps;
+  out["repeat"] = repeat;
+  out["note"] =
+      "per-step wall time of the same mesh and solver without and with the inclusions, stepped alternately; "
+      "ratio = median of the repeats' ratios; per simulated second also counts the change of the stable step";
+}
+
+// A box with an open pit and a concrete block, run here and by CalculiX (ccx, an independent explicit
+// finite element code): the voids' free faces and the inclusions' material against a code that meshes
+// them by leaving elements out (soil/calculix_peer.hpp).
+void benchVoidPeer(const BenchArgs& a, json& out) {
+  PeerCase c = voidPeerCase();
+  c.duration_s = a.p.getDouble("peer-duration");
+  if (!(c.duration_s >= 10.0 * c.dt_s && c.duration_s <= 1.0)) {
+    throw ArgError("soil-bench: --peer-duration must lie in [1e-4, 1] s");
+  }
+  namespace fs = std::filesystem;
+  const std::string keep = a.p.has("peer-dir") ? a.p.get("peer-dir") : "";
+  const fs::path dir =
+      keep.empty() ? fs::temp_directory_path() / ("railvib_void_peer_" + std::to_string(::getpid())) : fs::path(keep);
+  fs::create_directories(dir);
+  {
+    std::ofstream inp(dir / "peer.inp");
+    inp << calculixInput(c);
+    if (!inp) throw std::runtime_error("soil-bench void-peer: cannot write " + (dir / "peer.inp").string());
+  }
+  const std::string ccx = a.p.get("ccx");
+  const std::string command = "cd '" + dir.string() + "' && OMP_NUM_THREADS=1 '" + ccx + "' -i peer > ccx.log 2>&1";
+  const auto t0 = std::chrono::steady_clock::now();
+  const int status = std::system(command.c_str());
+  const double ccx_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (status != 0) {
+    throw std::runtime_error("soil-bench void-peer: CalculiX (" + ccx + ") failed with status " +
+                             std::to_string(status) +
+                             "; is it installed (apt-get install calculix-ccx)? log: " + (dir / "ccx.log").string());
+  }
+  std::ifstream dat(dir / "peer.dat");
+  const std::string text((std::istreambuf_iterator<char>(dat)), std::istreambuf_iterator<char>());
+  const PeerHistory peer = readCalculixDisplacements(text, c);
+  const auto t1 = std::chrono::steady_clock::now();
+  const PeerHistory own = runPeerCase(c);
+  const double own_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  const size_t nodes = c.output_nodes.size();
+  json per_node = json::array();
+  for (size_t q = 0; q < nodes; ++q) {
+    PeerHistory a1, b1;
+    for (size_t t = 0; t < own.time_s.size(); ++t) {
+      a1.time_s.push_back(own.time_s[t]);
+      b1.time_s.push_back(peer.time_s[t]);
+      for (int d = 0; d < 3; ++d) {
+        a1.u_m.push_back(own.u_m[(t * nodes + q) * 3 + d]);
+        b1.u_m.push_back(peer.u_m[(t * nodes + q) * 3 + d]);
+      }
+    }
+    const size_t nd = c.output_nodes[q], sx = c.mesh.nx + 1, sxy = sx * (c.mesh.ny + 1);
+    per_node.push_back(
+        {{"node_ijk", {nd % sx, (nd % sxy) / sx, nd / sxy}}, {"difference_over_node_peak", peerDifference(a1, b1)}});
+  }
+  out["difference_over_peak"] = peerDifference(own, peer);
+  // What the comparison can see: railvib's run of the same box without its pit and block.
+  PeerCase plain = c;
+  plain.mesh.inclusions.clear();
+  out["difference_over_peak_without_inclusions"] = peerDifference(runPeerCase(plain), peer);
+  out["nodes"] = per_node;
+  out["elements"] = c.mesh.elementCount();
+  out["inclusions"] = c.mesh.inclusions.size();
+  out["dt_s"] = c.dt_s;
+  out["steps"] = static_cast<size_t>(std::llround(c.duration_s / c.dt_s));
+  out["ccx_s"] = ccx_s;
+  out["railvib_s"] = own_s;
+  out["peer_dir"] = dir.string();
+  out["note"] =
+      "per output node max |u_railvib - u_calculix| / max |u_calculix| over its displacement history (x, y, depth), "
+      "the largest over the nodes; "
+      "CalculiX C3D8, *DYNAMIC EXPLICIT ALPHA=0, the same fixed increment and load polyline";
+  if (keep.empty()) fs::remove_all(dir);
+}
+
 struct BenchCase {
   const char* name;
   void (*run)(const BenchArgs&, json&);
@@ -471,6 +609,8 @@ const BenchCase kBenchCases[] = {
     {"lamb", benchLamb},
     {"reflection", benchReflection},
     {"reflection-layered", benchReflectionLayered},
+    {"void-peer", benchVoidPeer},
+    {"inclusions", benchInclusions},
 };
 
 std::string benchCaseList() {
@@ -517,6 +657,9 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("pml-ratio", "reflection*: M-PML ratio p, comma-separated", "0");
   p.option("pml-bottom", "reflection*: 1 = PML along the bottom too, 0 = sides only", "1");
   p.option("pml-outer-dashpots", "reflection*: 1 = dashpots at the PML's outer faces, 0 = free faces", "1");
+  p.option("ccx", "void-peer: the CalculiX executable", "ccx");
+  p.option("peer-duration", "void-peer: simulated time (s)", "0.04");
+  p.option("peer-dir", "void-peer: keep the CalculiX deck and results in this folder (default: a temporary one)", "");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
   addConfigOptions(p);  // reflection-layered: soil profile, mesh resolution, damping and layer from the config
   std::string which;

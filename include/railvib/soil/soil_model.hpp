@@ -65,6 +65,10 @@ struct SectionSnapshot {
   std::vector<float> vz_up_m_s;
 };
 
+/// The mesh's inclusions as meshed (name, kind, elements, how far snapping moved a face, the box in
+/// frame track with depth down, the material's wave speeds), for run summaries and benchmarks.
+nlohmann::json inclusionsSummary(const StructuredMesh& mesh);
+
 class SoilModel {
  public:
   /// Builds the mesh and the solver, and attaches the rigid bodies (e.g. a house's foundation,
