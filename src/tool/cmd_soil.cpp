@@ -20,6 +20,7 @@
 #include "railvib/io/csv.hpp"
 #include "railvib/soil/calculix_peer.hpp"
 #include "railvib/soil/lamb.hpp"
+#include "railvib/soil/screening.hpp"
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "railvib/soil/verification.hpp"
@@ -526,6 +527,79 @@ void benchInclusions(const BenchArgs& a, json& out) {
       "ratio = median of the repeats' ratios; per simulated second also counts the change of the stable step";
 }
 
+// Passive isolation by a trench or a wall on a homogeneous half-space (soil/screening.hpp): the amplitude
+// reduction ratio behind it per normalised depth, against the published field tests and charts.
+void benchTrench(const BenchArgs& a, json& out) {
+  ScreeningSpec spec = defaultScreeningSpec();
+  spec.element_m = a.p.getDouble("screen-element");
+  if (!(spec.element_m >= 0.05 && spec.element_m <= 0.5))
+    throw ArgError("soil-bench: --screen-element in [0.05, 0.5] m");
+  spec.zone_start_wavelengths = a.p.getDouble("screen-zone-start");
+  if (!(spec.zone_start_wavelengths >= 0.0 && spec.zone_start_wavelengths <= 3.0)) {
+    throw ArgError("soil-bench: --screen-zone-start in [0, 3] Rayleigh wavelengths");
+  }
+  const double f_min = a.p.getDouble("screen-f-min");
+  const double f_max = a.p.getDouble("screen-f-max");
+  if (!(f_min >= 25.0 && f_max <= 90.0 && f_min <= f_max)) {
+    throw ArgError("soil-bench: --screen-f-min <= --screen-f-max, both in [25, 90] Hz");
+  }
+  spec.frequencies_hz.erase(std::remove_if(spec.frequencies_hz.begin(), spec.frequencies_hz.end(),
+                                           [f_min, f_max](double f) { return f > f_max + 1e-9 || f < f_min - 1e-9; }),
+                            spec.frequencies_hz.end());
+  spec.precision = a.precisions.front();
+  spec.threads = 0;
+  const std::string fills = a.p.get("screen-fills");
+  std::stringstream list(fills);
+  for (std::string item; std::getline(list, item, ',');) {
+    // In-fills 1.5 m deep: a soft slurry (bentonite-cement, [assumed] E 2 MPa, rho 1100, nu 0.45: impedance
+    // 0.11 x the soil's) and a stiff wall (jet grout, [assumed] E 3 GPa, rho 2000, nu 0.2: 13 x).
+    if (item == "soft") {
+      spec.barriers.push_back({"soft fill 1.5 m", false, {2.0e6, 1100.0, 0.45}, 1.5});
+    } else if (item == "stiff") {
+      spec.barriers.push_back({"stiff wall 1.5 m", false, {3.0e9, 2000.0, 0.2}, 1.5});
+    } else if (!item.empty() && item != "none") {
+      throw ArgError("soil-bench: --screen-fills takes soft, stiff or none, comma-separated (got '" + item + "')");
+    }
+  }
+  const ScreeningResult r = runScreening(spec);
+  out["rayleigh_speed_m_s"] = r.rayleigh_speed_m_s;
+  out["soil"] = {{"vs_m_s", spec.soil.vs()}, {"vp_m_s", spec.soil.vp()}, {"poisson_ratio", spec.soil.poisson_ratio}};
+  out["elements"] = r.elements;
+  out["element_m"] = spec.element_m;
+  out["zone_nodes"] = r.zone_nodes;
+  out["frequencies_hz"] = r.frequencies_hz;
+  out["reference_run_s"] = r.reference_seconds;
+  out["geometry_m"] = {{"source_to_barrier", spec.barrier_x_m},
+                       {"barrier_width", spec.barrier_width_m},
+                       {"barrier_length", 2.0 * spec.barrier_half_length_m},
+                       {"zone_start_rayleigh_wavelengths", spec.zone_start_wavelengths},
+                       {"zone_length_rayleigh_wavelengths", spec.zone_length_wavelengths},
+                       {"zone_half_width_rayleigh_wavelengths", spec.zone_half_width_wavelengths}};
+  json curves = json::array();
+  std::ostringstream t;
+  t << std::fixed << std::setprecision(2);
+  for (const ScreeningCurve& c : r.curves) {
+    curves.push_back({{"name", c.name},
+                      {"depth_m", c.depth_m},
+                      {"dt_s", c.dt_s},
+                      {"run_s", c.seconds},
+                      {"normalised_depth", c.normalised_depth},
+                      {"amplitude_ratio", c.amplitude_ratio}});
+    t << c.name << " (dt " << std::setprecision(6) << c.dt_s << " s, " << std::setprecision(1) << c.seconds
+      << " s):\n  D/lambda_R";
+    t << std::setprecision(2);
+    for (double d : c.normalised_depth) t << " " << std::setw(5) << d;
+    t << "\n  A_r       ";
+    for (double v : c.amplitude_ratio) t << " " << std::setw(5) << v;
+    t << "\n";
+  }
+  out["curves"] = curves;
+  out["note"] =
+      "A_r = mean over the zone's surface nodes of |U_z with barrier (f)| / |U_z without (f)| (Woods 1968); "
+      "D / lambda_R = depth x f / c_R; half model (symmetry plane through the source), PML on the other faces";
+  std::cerr << t.str();
+}
+
 // A box with an open pit and a concrete block, run here and by CalculiX (ccx, an independent explicit
 // finite element code): the voids' free faces and the inclusions' material against a code that meshes
 // them by leaving elements out (soil/calculix_peer.hpp).
@@ -611,6 +685,7 @@ const BenchCase kBenchCases[] = {
     {"reflection-layered", benchReflectionLayered},
     {"void-peer", benchVoidPeer},
     {"inclusions", benchInclusions},
+    {"trench", benchTrench},
 };
 
 std::string benchCaseList() {
@@ -658,6 +733,12 @@ int soilBench(const std::vector<std::string>& args) {
   p.option("pml-bottom", "reflection*: 1 = PML along the bottom too, 0 = sides only", "1");
   p.option("pml-outer-dashpots", "reflection*: 1 = dashpots at the PML's outer faces, 0 = free faces", "1");
   p.option("ccx", "void-peer: the CalculiX executable", "ccx");
+  p.option("screen-element", "trench: element size (m)", "0.125");
+  p.option("screen-f-min", "trench: lowest frequency read (Hz; 25-90)", "25");
+  p.option("screen-f-max", "trench: highest frequency read (Hz; 25-90)", "90");
+  p.option("screen-zone-start", "trench: the zone's start behind the barrier (Rayleigh wavelengths)", "0");
+  p.option("screen-fills", "trench: in-filled barriers beside the open trenches: soft, stiff, none (comma-separated)",
+           "soft,stiff");
   p.option("peer-duration", "void-peer: simulated time (s)", "0.04");
   p.option("peer-dir", "void-peer: keep the CalculiX deck and results in this folder (default: a temporary one)", "");
   p.flag("json", "JSON only on stdout (the default prints JSON too)");
