@@ -5,11 +5,10 @@
 // parameter, and above 0.6 the disturbance is significantly reduced; backfilled trenches screen less than
 // open ones (also Ahmad & Al-Hussaini, J. Geotech. Eng. 117(1), 1991). A coarse mesh (0.25 m, 25-45 Hz,
 // 8 elements per shear wavelength at 50 Hz): the 0.125 m mesh of `railvib_tool soil-bench trench` gives
-// the same ratios within 0.02.
+// the same ratios within 0.02. One thread: the EPS fill's stable step makes it the longest run (~5 s).
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <numeric>
 
 #include "railvib/soil/screening.hpp"
 
@@ -20,7 +19,7 @@ TEST(SoilScreening, OpenTrenchScreensAsTheFieldTestsShowAndASoftFillLess) {
   spec.element_m = 0.25;
   spec.threads = 1;  // one thread: not slowed by whatever else runs beside the suite
   spec.frequencies_hz = {25.0, 30.0, 35.0, 40.0, 45.0};
-  spec.barriers.push_back({"soft fill 1.5 m", false, {2.0e6, 1100.0, 0.45}, 1.5});
+  spec.barriers.push_back({"soft fill 1.5 m", false, {8.0e6, 20.0, 0.1}, 1.5});
   const ScreeningResult r = runScreening(spec);
   ASSERT_EQ(r.curves.size(), 3u);
   for (const ScreeningCurve& c : r.curves) {
@@ -41,8 +40,15 @@ TEST(SoilScreening, OpenTrenchScreensAsTheFieldTestsShowAndASoftFillLess) {
       EXPECT_LE(deep.amplitude_ratio[q], 0.25) << deep.normalised_depth[q];
     }
   }
-  // The soft fill (impedance 0.11 x the soil's) screens, but less than the open trench of the same depth.
-  const auto mean = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); };
-  EXPECT_GT(mean(soft.amplitude_ratio), 1.2 * mean(deep.amplitude_ratio));
-  EXPECT_LT(mean(soft.amplitude_ratio), 0.7);
+  // The soft fill (EPS geofoam, impedance 0.047 x the soil's but 0.25 m thin: a spring between the trench's
+  // faces, stiffness E_oed / W, that passes the low frequencies) screens less than the open trench of the
+  // same depth at every frequency, and more as the frequency rises (its transmission ~ 1 / sqrt(1 + (omega
+  // rho c W / 2 E_oed)^2) for a plane wave).
+  for (size_t q = 0; q < soft.amplitude_ratio.size(); ++q) {
+    EXPECT_GT(soft.amplitude_ratio[q], deep.amplitude_ratio[q] + 0.1) << q;
+    EXPECT_LT(soft.amplitude_ratio[q], 0.9) << q;
+    if (q > 0) {
+      EXPECT_LT(soft.amplitude_ratio[q], soft.amplitude_ratio[q - 1]) << q;
+    }
+  }
 }
