@@ -3,6 +3,7 @@
 
 usage: ./railvib study [--file STUDY.yaml] [--vary KEY=V1,V2,...]... [--set KEY=VALUE]...
                        [--arg NAME:=VALUE]... [--scenario haren] [--config FILE] [--jobs N] [--outdir DIR]
+       ./railvib mitigate --measure NAME [--measure NAME]... [--catalogue FILE] [the options above]
 
 KEY is a launch argument of the scenario (speed, foundation, track, coupling, vehicle, duration,
 width, defect_rails, building) or a dotted config key (e.g. unevenness.defect.depth_m). --vary keys form a grid (every
@@ -24,6 +25,12 @@ sensors' last /sensor_metrics message, the core's), OUTDIR/study.md (the same, o
 figure per varied key (PPV and KB_Fmax of every sensor against it). Progress and an ETA are printed
 as runs finish. Exit code: 0 if every run passed, 1 if one failed (the table says which), 2 for a
 bad study.
+
+With --measure (./railvib mitigate), the runs are the scenario without any measure (the baseline) and
+once with each named measure of the catalogue (config/mitigation.yaml, or --catalogue FILE: NAME:
+{description, set: {dotted keys}}), every measure's keys validated by railvib_tool config-check before
+any run; besides the study's tables it writes the insertion loss of each measure (scripts/mitigation.py:
+mitigation.md, mitigation.csv per band, mitigation_summary.csv, mitigation.png).
 """
 import argparse
 import concurrent.futures
@@ -31,6 +38,7 @@ import csv
 import itertools
 import os
 import pathlib
+import shutil
 import subprocess
 import sys
 import threading
@@ -44,6 +52,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import mitigation  # noqa: E402
 import railvib_names as names  # noqa: E402
 
 try:
@@ -128,6 +137,39 @@ def plan(spec):
     if not runs:
         runs.append(("base", dict(fixed)))
     return runs
+
+
+def measure_runs(spec, measures):
+    """The mitigation runs: the baseline (the fixed keys), then each measure's keys over them."""
+    fixed = dict(spec.get("arguments") or {})
+    fixed.update(spec.get("set") or {})
+    for key, value in fixed.items():
+        check_key(key)
+        check_value(key, value)
+    if spec.get("grid") or spec.get("runs"):
+        die("--measure runs the baseline and the measures: no --vary, grid or runs beside it")
+    runs = [(mitigation.BASELINE, dict(fixed))]
+    for name, m in measures:
+        for key in m["set"]:
+            check_key(key)  # a measure's value may be a list or a map (e.g. soil.inclusions)
+        runs.append((name, {**fixed, **m["set"]}))
+    return runs
+
+
+def validate_measures(base, runs):
+    """Each run's configuration through railvib_tool config-check (the loaders' own checks) before any run."""
+    tool = os.environ.get("RAILVIB_TOOL") or shutil.which("railvib_tool")
+    if not tool:
+        print("railvib study: railvib_tool not found: the measures' keys are checked when each run starts")
+        return
+    for label, values in runs:
+        command = [tool, "config-check", "--config", str(base)]
+        for key, value in values.items():
+            if "." in key:
+                command += ["--set", mitigation.override_text(key, value)]
+        r = subprocess.run(command, capture_output=True, text=True)
+        if r.returncode != 0:
+            die(f"measure {label}: {(r.stderr or r.stdout).strip()}")
 
 
 def varied_keys(runs):
@@ -366,6 +408,10 @@ def main(argv):
     parser.add_argument("--runner", default=str(ROOT / "railvib") + " run",
                         help=argparse.SUPPRESS)  # tests: a command that stands in for ./railvib run
     parser.add_argument("--dry-run", action="store_true", help="print the runs and stop")
+    parser.add_argument("--measure", action="append", default=[],
+                        help="a measure of the catalogue (repeatable): the baseline and each measure are run")
+    parser.add_argument("--catalogue", default=str(ROOT / "config" / "mitigation.yaml"),
+                        help="the measures' catalogue (default config/mitigation.yaml)")
     options = parser.parse_args(argv[1:])
     spec = load_spec(options)
     options.scenario = options.scenario or spec.get("scenario") or "haren"
@@ -378,8 +424,19 @@ def main(argv):
         die(f"base configuration {base} does not exist")
     if options.jobs < 1:
         die("--jobs must be >= 1")
-    runs = plan(spec)
-    keys = varied_keys(runs)
+    if options.measure:
+        try:
+            measures = mitigation.pick(mitigation.load_catalogue(options.catalogue), options.measure,
+                                       options.catalogue)
+        except mitigation.CatalogueError as e:
+            die(str(e))
+        runs = measure_runs(spec, measures)
+        validate_measures(base, runs)
+        keys = []
+    else:
+        measures = []
+        runs = plan(spec)
+        keys = varied_keys(runs)
     print(f"railvib study: {len(runs)} run(s) of {options.scenario}, {options.jobs} at a time, base {base}")
     for i, (label, values) in enumerate(runs):
         print(f"  run {i + 1:3d}: {label}  [{' '.join(launch_arguments(values))}"
@@ -405,6 +462,16 @@ def main(argv):
     write_tables(options.outdir, rows, keys)
     figures = plot_against(options.outdir, rows, keys) if keys else []
     failed = [r for r in results if r["code"] != 0]
+    if measures and results[0]["metrics"]:
+        described = {name: m["description"] for name, m in measures}
+        done = [(r["label"], described[r["label"]], r["metrics"]) for r in results[1:] if r["metrics"]]
+        try:
+            bands, summary = mitigation.summarise(results[0]["metrics"], done)
+            figures += mitigation.write_outputs(options.outdir, bands, summary,
+                                                {r["label"]: r["seconds"] for r in results})
+        except ValueError as e:
+            print(f"railvib study: no insertion loss: {e}")
+            failed = failed or results[:1]
     print(f"railvib study: {options.outdir / 'study.md'}, study.csv"
           + (f", {', '.join(figures)}" if figures else "")
           + (f"; {len(failed)} run(s) failed: " + ", ".join(r["label"] for r in failed) if failed else ""))

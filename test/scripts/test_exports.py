@@ -214,7 +214,9 @@ class SensorTopics(unittest.TestCase):
 
 FAKE_RUNNER = '''#!/usr/bin/env python3
 # Stands in for ./railvib run: records its arguments and writes a bag of sensor metrics that
-# depend on them (PPV = speed x 1e-4 m/s; KB_Fmax = 1000 x defect height from its config file).
+# depend on them (PPV = speed x 1e-4 m/s; KB_Fmax = 1000 x defect height from its config file;
+# one-third octave levels of an amplitude proportional to the defect height, with a trench in
+# soil.inclusions lowering the bands from 20 Hz by 10 dB at the far sensor).
 import json, sys, pathlib, yaml, rosbag, rospy
 import railvib.msg as rm
 args = dict(a.split(":=", 1) for a in sys.argv[2:])
@@ -235,8 +237,26 @@ with rosbag.Bag(args["bag"], "w") as bag:
         m.dominant_frequency_hz = 30.0
         m.din4150_3_limit_m_s = 0.01
         m.kb_f_max = 1000 * height * scale
-        m.din4150_2_verdict = 1 if m.kb_f_max > 0.3 else 0
+        m.din4150_2_verdict = 1 if m.kb_f_max > 0.6 else 0
+        trench = bool(config.get("soil", {}).get("inclusions"))
+        m.third_octave_center_hz = [10.0, 12.5, 16.0, 20.0, 25.0, 31.5]
+        m.third_octave_level_db = [20 * __import__("math").log10(height * scale * 1e9) + 3 * q
+                                   - (10.0 if trench and name == "ground_8m" and f >= 20.0 else 0.0)
+                                   for q, f in enumerate(m.third_octave_center_hz)]
         bag.write("/sensor_metrics", m, rospy.Time(1))
+'''
+
+CATALOGUE = '''measures:
+  defect_half:
+    description: a smaller defect
+    set: {unevenness.defect.height_m: 0.5e-3}
+  trench:
+    description: an open trench
+    set:
+      soil.inclusions: [{name: trench, kind: void, x_m: [-14.8, 14.8], y_m: [3.1, 3.9], depth_m: [0.0, 4.0]}]
+  bad_key:
+    description: a key no loader knows
+    set: {track.railpad.stiffnes_n_m: 3.0e7}
 '''
 
 
@@ -289,6 +309,52 @@ class Study(unittest.TestCase):
         with open(out / "study.csv") as f:
             rows = list(csv.DictReader(f))
         self.assertEqual([row["status"] for row in rows if row["speed"] == "99"], ["failed"])
+
+    def test_mitigate_runs_the_baseline_and_each_measure_and_gives_the_insertion_loss(self):
+        catalogue = WORK / "catalogue.yaml"
+        catalogue.write_text(CATALOGUE)
+        out = WORK / "mitigate"
+        r = self.study(out, "--catalogue", catalogue, "--measure", "defect_half", "--measure", "trench")
+        self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
+        self.assertIn("[3/3]", r.stdout)
+        # The trench's list of inclusions reaches its run's config file as a list.
+        config = yaml.safe_load((out / "run_003" / "config.yaml").read_text())
+        self.assertEqual(config["soil"]["inclusions"][0]["depth_m"], [0.0, 4.0])
+        with open(out / "mitigation.csv") as f:
+            bands = list(csv.DictReader(f))
+        self.assertEqual(len(bands), 2 * 2 * 6)  # 2 measures x 2 sensors x 6 bands
+        for b in bands:
+            il = float(b["il_db"])
+            if b["measure"] == "defect_half":  # half the amplitude everywhere: 20 log10 2
+                self.assertAlmostEqual(il, 20 * math.log10(2.0), places=9)
+            else:  # the trench: 10 dB from 20 Hz at the far sensor, nothing elsewhere
+                far = b["sensor"] == "ground_8m" and float(b["band_hz"]) >= 20.0
+                self.assertAlmostEqual(il, 10.0 if far else 0.0, places=9)
+        with open(out / "mitigation_summary.csv") as f:
+            summary = {(row["measure"], row["sensor"]): row for row in csv.DictReader(f)}
+        half = summary[("defect_half", "ground_2m")]
+        self.assertAlmostEqual(float(half["overall_il_db"]), 20 * math.log10(2.0), places=9)
+        self.assertAlmostEqual(float(half["kb_f_max_with"]) / float(half["kb_f_max_base"]), 0.5, places=12)
+        self.assertEqual((half["din4150_2_base"], half["din4150_2_with"]), ("WARN", "OK"))
+        # Overall IL of the trench at the far sensor: the energy sum of bands 3 dB apart, the top three 10 dB lower.
+        levels = [3.0 * q for q in range(6)]
+        e = lambda ls: 10 * math.log10(sum(10 ** (v / 10) for v in ls))  # noqa: E731
+        self.assertAlmostEqual(float(summary[("trench", "ground_8m")]["overall_il_db"]),
+                               e(levels) - e(levels[:3] + [v - 10 for v in levels[3:]]), places=9)
+        md = (out / "mitigation.md").read_text()
+        self.assertIn("- ground_2m, DIN 4150-2 (WARN without): defect_half", md)
+        self.assertGreater((out / "mitigation.png").stat().st_size, 10000)
+
+    def test_mitigate_refuses_unknown_measures_and_bad_keys_before_any_run(self):
+        catalogue = WORK / "catalogue.yaml"
+        catalogue.write_text(CATALOGUE)
+        for measure, message in (("grinding", "unknown measure 'grinding'"),
+                                 ("bad_key", "track.railpad.stiffnes_n_m")):
+            out = WORK / "mitigate_refused"
+            r = self.study(out, "--catalogue", catalogue, "--measure", measure)
+            self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+            self.assertIn(message, r.stderr)
+            self.assertFalse(list(out.glob("run_*")), measure)
 
     def test_bad_keys_and_values_are_refused_before_any_run(self):
         for args, message in ((["--vary", "sped=1,2"], "neither a launch argument"),
