@@ -13,6 +13,9 @@ namespace railvib::soil {
 
 namespace {
 
+// Where the house's footprint receivers come from (their origin), to find them again.
+constexpr const char* kFootprintOrigin = "building.footprint";
+
 Material readMaterial(const ConfigNode& n) {
   Material m;
   m.young_modulus_pa = n.number("young_modulus_pa", Range::open(0.0, 1e13));
@@ -173,7 +176,7 @@ void collectReceivers(const ConfigNode& root, const HouseReceivers& house, SoilP
     }
   }
   if (out.flag("building_receivers", true)) addPoints(house.free_field, "site.building", p);
-  addPoints(house.footprint, "building.footprint", p);
+  addPoints(house.footprint, kFootprintOrigin, p);
 }
 
 // Every receiver inside the box and outside its absorbing layer (there it would record damped motion).
@@ -228,6 +231,19 @@ void checkInclusions(const ConfigNode& soil, const SoilParams& p, StructuredMesh
       why << "the void '" << spec.name << "' opens at the surface across y [" << y0 << ", " << y1
           << "] m as meshed, under the track's sleepers (|y| <= " << half_length
           << " m): a trench through the track carries no load";
+      nodes[q].fail("y_m", why.str());
+    }
+    // The house stands on its footprint (the rectangle of its footprint points): no void under it.
+    double hx0 = 1e300, hx1 = -1e300, hy0 = 1e300, hy1 = -1e300;
+    for (const ReceiverSpec& r : p.receivers) {
+      if (r.origin != kFootprintOrigin) continue;
+      hx0 = std::min(hx0, r.x_m), hx1 = std::max(hx1, r.x_m), hy0 = std::min(hy0, r.y_m), hy1 = std::max(hy1, r.y_m);
+    }
+    if (hx1 >= hx0 && top == 0.0 && x0 < hx1 && x1 > hx0 && y0 < hy1 && y1 > hy0) {
+      std::ostringstream why;
+      why << "the void '" << spec.name << "' (x [" << x0 << ", " << x1 << "], y [" << y0 << ", " << y1
+          << "] m as meshed) opens under the house's footprint (x [" << hx0 << ", " << hx1 << "], y [" << hy0 << ", "
+          << hy1 << "] m): a trench through the house";
       nodes[q].fail("y_m", why.str());
     }
     for (const ReceiverSpec& r : p.receivers) {

@@ -53,6 +53,14 @@ class Cases:
     def config_check(self):
         s = self.run("config-check", "--config", CI)
         check(s["valid"] and len(s["virtual_sensors"]) == 4, s)
+        # The Haren catalogue's trench passes; a void under the house (front wall at y = 4.72 m) is refused
+        # with its key, whether or not a footprint point falls in it.
+        trench = "soil.inclusions=[{name: t, kind: void, x_m: [-14.8, 14.8], y_m: [%s], depth_m: [0, 2]}]"
+        s = self.run("config-check", "--set", trench % "3.1, 3.9")
+        check(s["valid"], s)
+        out = subprocess.run([self.tool, "config-check", "--set", trench % "6.1, 6.9"], capture_output=True, text=True)
+        check(out.returncode != 0 and "soil.inclusions[0].y_m" in out.stderr and "through the house" in out.stderr,
+              out.stderr)
 
     # ------------------------------------------------------------------ track
     def receptance(self):
