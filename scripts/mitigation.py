@@ -24,7 +24,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 
-VERDICT = {0: "OK", 1: "WARN", 2: "ERROR"}
+import railvib_verdicts as verdicts  # noqa: E402
+
 BASELINE = "baseline"
 
 
@@ -116,13 +117,16 @@ def summarise(baseline_metrics, measure_results):
                 "ppv_base_mm_s": b.ppv_m_s * 1e3, "ppv_with_mm_s": m.ppv_m_s * 1e3,
                 "ppv_change_pct": 100.0 * (m.ppv_m_s / b.ppv_m_s - 1.0) if b.ppv_m_s > 0 else float("nan"),
                 "kb_f_max_base": b.kb_f_max, "kb_f_max_with": m.kb_f_max,
-                "din4150_2_base": VERDICT.get(b.din4150_2_verdict, "?"), "din4150_2_with": VERDICT.get(m.din4150_2_verdict, "?"),
-                "din4150_3_base": VERDICT.get(b.din4150_3_verdict, "?"), "din4150_3_with": VERDICT.get(m.din4150_3_verdict, "?"),
+                "kind": verdicts.kind_name(b.kind),
+                "din4150_2_base": verdicts.verdict_name(b.din4150_2_verdict),
+                "din4150_2_with": verdicts.verdict_name(m.din4150_2_verdict),
+                "din4150_3_base": verdicts.verdict_name(b.din4150_3_verdict),
+                "din4150_3_with": verdicts.verdict_name(m.din4150_3_verdict),
             })
     return bands, summary
 
 
-SUMMARY_COLUMNS = ["measure", "sensor", "overall_il_db", "ppv_base_mm_s", "ppv_with_mm_s", "ppv_change_pct",
+SUMMARY_COLUMNS = ["measure", "sensor", "kind", "overall_il_db", "ppv_base_mm_s", "ppv_with_mm_s", "ppv_change_pct",
                    "kb_f_max_base", "kb_f_max_with", "din4150_2_base", "din4150_2_with", "din4150_3_base",
                    "din4150_3_with", "description"]
 
@@ -143,10 +147,10 @@ def write_outputs(outdir, bands, summary, wall_s):
              "IL = L_v(without) - L_v(with) per one-third octave band (ISO 14837-1; levels re 1e-9 m/s, the "
              "sensors' core metrics over the whole record); positive: the measure lowers the vibration. "
              "Overall: the bands' energy sums.", "",
-             "| measure | sensor | overall IL [dB] | PPV [mm/s] without -> with | change | KB_Fmax without -> with "
+             "| measure | sensor (kind) | overall IL [dB] | PPV [mm/s] without -> with | change | KB_Fmax without -> with "
              "| DIN 4150-2 | DIN 4150-3 |", "|---|---|---|---|---|---|---|---|"]
     for s in summary:
-        lines.append(f"| {s['measure']} | {s['sensor']} | {fmt(s['overall_il_db'])} | {fmt(s['ppv_base_mm_s'])} -> "
+        lines.append(f"| {s['measure']} | {s['sensor']} ({s['kind']}) | {fmt(s['overall_il_db'])} | {fmt(s['ppv_base_mm_s'])} -> "
                      f"{fmt(s['ppv_with_mm_s'])} | {s['ppv_change_pct']:+.1f} % | {fmt(s['kb_f_max_base'])} -> "
                      f"{fmt(s['kb_f_max_with'])} | {s['din4150_2_base']} -> {s['din4150_2_with']} | "
                      f"{s['din4150_3_base']} -> {s['din4150_3_with']} |")
@@ -155,7 +159,8 @@ def write_outputs(outdir, bands, summary, wall_s):
     for sensor in sensors:
         for standard in ("din4150_2", "din4150_3"):
             rows = [s for s in summary if s["sensor"] == sensor]
-            if not rows or rows[0][standard + "_base"] == "OK":
+            # Only a verdict that fails without the measures (a free-field sensor has none to bring to OK).
+            if not rows or rows[0][standard + "_base"] not in ("WARN", "ERROR"):
                 continue
             fixed = [s["measure"] for s in rows if s[standard + "_with"] == "OK"]
             lines.append(f"- {sensor}, {standard.replace('din', 'DIN ').replace('_', '-')} "

@@ -31,6 +31,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import railvib_names as names  # noqa: E402
 import railvib_paths  # noqa: E402
+import railvib_verdicts  # noqa: E402
 
 # Velocity components in the sensor's frame; the colours are also what test_monitor.py looks for.
 COMPONENT_NAMES = ("x", "y", "z")
@@ -39,9 +40,8 @@ KB_F_COLOUR = "#6a3d9a"
 A_U_COLOUR = "#e08214"
 A_O_COLOUR = "#b2182b"
 BAR_COLOUR = "#8da0cb"
-# VibrationMetrics.VERDICT_OK / _WARN / _ERROR.
-VERDICT_NAMES = {0: "OK", 1: "WARN", 2: "ERROR"}
-VERDICT_COLOURS = {0: "#1a7a3a", 1: "#c77800", 2: "#c0141c", None: "#555555"}
+# VibrationMetrics.VERDICT_OK / _WARN / _ERROR / _NOT_APPLICABLE / _NOT_ASSESSABLE (names: railvib_verdicts).
+VERDICT_COLOURS = {0: "#1a7a3a", 1: "#c77800", 2: "#c0141c", 3: "#555555", 4: "#7a4fa0", None: "#555555"}
 VELOCITY_TYPE = "geometry_msgs/Vector3Stamped"
 LAYOUT_PREFIX = "monitor: axes "
 
@@ -398,7 +398,7 @@ class MonitorWindow:
                 if buffers.last_velocity_t_s is not None:
                     now_s = max(now_s, buffers.last_velocity_t_s)
             self.update_row(name, velocity, kb_f, metrics)
-            verdict = VERDICT_NAMES.get(metrics.verdict, str(metrics.verdict)) if metrics else "no metrics yet"
+            verdict = railvib_verdicts.verdict_name(metrics.verdict) if metrics else "no metrics yet"
             verdicts.append(f"{name}: {verdict}")
         for name in self.row_names:  # one time axis for every row: the newest sample of any sensor
             t_end = max(now_s, self.monitor.window_s)
@@ -450,9 +450,9 @@ class MonitorWindow:
             artists["velocity_title"].set_color(VERDICT_COLOURS[None])
             artists["kb_f_title"].set_text("KB_F(t), DIN 4150-2")
             return
-        verdict_2 = VERDICT_NAMES.get(metrics.din4150_2_verdict, "?")
-        verdict_3 = VERDICT_NAMES.get(metrics.din4150_3_verdict, "?")
-        artists["velocity_title"].set_text(f"{name}: {VERDICT_NAMES.get(metrics.verdict, '?')}   "
+        verdict_2 = railvib_verdicts.verdict_name(metrics.din4150_2_verdict)
+        verdict_3 = railvib_verdicts.verdict_name(metrics.din4150_3_verdict)
+        artists["velocity_title"].set_text(f"{name}: {railvib_verdicts.verdict_name(metrics.verdict)}   "
                                            f"(DIN 4150-2 {verdict_2}, DIN 4150-3 {verdict_3})")
         artists["velocity_title"].set_color(VERDICT_COLOURS.get(metrics.verdict, VERDICT_COLOURS[None]))
         artists["kb_f_title"].set_text(f"KB_F {metrics.kb_f:.3g} (max {metrics.kb_f_max:.3g}), DIN 4150-2")

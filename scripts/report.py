@@ -43,6 +43,7 @@ from matplotlib.transforms import blended_transform_factory  # noqa: E402
 
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_verdicts as verdicts  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 
 try:
@@ -107,7 +108,14 @@ def tool():
     die("railvib_tool not found: build with ./railvib setup")
 
 
-VERDICTS = {0: "OK", 1: "WARN (rating KB_FTr decides)", 2: "ERROR"}
+def sensor_kind(m):
+    """Where a live sensor stood (VibrationMetrics.kind); None for a bag recorded before sensors said so."""
+    return verdicts.kind_name(m.kind) if hasattr(m, "kind") else None
+
+
+def verdict_text(value):
+    """A live verdict as the report prints it: WARN is DIN 4150-2's middle case, which the rating decides."""
+    return "WARN (rating KB_FTr decides)" if verdicts.verdict_name(value) == "WARN" else verdicts.verdict_name(value)
 COMPONENTS = ["vx", "vy", "vz"]  # the columns railvib_tool metrics names them by
 COMPONENT_COLOURS = {0: "C2", 1: "C1", 2: "C0"}
 
@@ -120,11 +128,12 @@ def last_metrics(bag):
     return last
 
 
-def metrics(t, v_m_s, outdir, name, exposure_s=None, period=None):
+def metrics(t, v_m_s, outdir, name, exposure_s=None, period=None, kind=None, resolved_hz=None):
     """Run railvib_tool metrics on one sensor's 3 components; returns its JSON summary and KB_F(t).
 
     exposure_s, period: the DIN 4150-2 exposure time for KB_FTr and the guide values' period
-    (the tool's defaults: the record length, day)."""
+    (the tool's defaults: the record length, day); kind, resolved_hz: where the sensor stands and the
+    model's resolved frequency, as the live sensor judged it (the tool's defaults: foundation, no limit)."""
     path = outdir / f"{name}_velocity.csv"
     with open(path, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
@@ -136,6 +145,10 @@ def metrics(t, v_m_s, outdir, name, exposure_s=None, period=None):
         cmd += ["--exposure-s", repr(float(exposure_s))]
     if period is not None:
         cmd += ["--period", period]
+    if kind is not None:
+        cmd += ["--kind", kind]
+    if resolved_hz:
+        cmd += ["--resolved-hz", repr(float(resolved_hz))]
     out = subprocess.run(cmd, capture_output=True, text=True)
     if out.returncode != 0:
         die(f"railvib_tool metrics failed for {name}: {out.stderr.strip()}")
@@ -614,7 +627,8 @@ def main(argv):
             fig, axes = plt.subplots(ns, 3, figsize=(14, 2.9 * ns), squeeze=False)
             for i, name in enumerate(sensor_names):
                 m = live[name]
-                summary, kbf = metrics(t, v[:, i, :], outdir, name, exposure_s=exposure_s, period=period)
+                summary, kbf = metrics(t, v[:, i, :], outdir, name, exposure_s=exposure_s, period=period,
+                                       kind=sensor_kind(m), resolved_hz=getattr(m, "resolved_hz", None))
                 rated[name] = summary["din4150_2"]
                 governing = int(m.governing_component) if m.governing_component in (0, 1, 2) else 2
                 plotted = [2] + ([governing] if governing != 2 else [])
@@ -650,20 +664,26 @@ def main(argv):
             plt.close(fig)
             figures.append("sensors.png")
             lines += ["## Virtual sensors", "",
-                      "| sensor | KB_Fmax | PPV, vector [mm/s] | governing component: peak [mm/s] | "
+                      "| sensor | kind | KB_Fmax | PPV, vector [mm/s] | governing component: peak [mm/s] | "
                       "its frequency [Hz] | its DIN 4150-3 limit [mm/s] | DIN 4150-2 | DIN 4150-3 |",
-                      "|---|---|---|---|---|---|---|---|"]
+                      "|---|---|---|---|---|---|---|---|---|"]
             for name in sensor_names:
                 m = live[name]
-                lines.append("| {} | {:.4f} | {:.4f} | {} {:.4f} | {:.1f} | {:.1f} | {} | {} |".format(
-                    name, m.kb_f_max, m.ppv_m_s * 1e3, COMPONENTS[m.governing_component], m.governing_ppv_m_s * 1e3,
-                    m.dominant_frequency_hz, m.din4150_3_limit_m_s * 1e3, VERDICTS[m.din4150_2_verdict],
-                    VERDICTS[m.din4150_3_verdict]))
-            lines += ["", "DIN 4150-3 (short-term, residential building, Table 1 row 2) compares the peak of "
-                      "each velocity component with the guide value at that component's dominant frequency; "
-                      "the vector PPV (peak of |v|) is given for information. DIN 4150-2 compares KB_Fmax "
-                      "with the A_u / A_o guide values of the chosen period. Values and verdicts as the "
-                      "live sensors recorded them (" + names.SENSOR_METRICS + ").", ""]
+                lines.append("| {} | {} | {:.4f} | {:.4f} | {} {:.4f} | {:.1f} | {:.1f} | {} | {} |".format(
+                    name, sensor_kind(m) or "not recorded", m.kb_f_max, m.ppv_m_s * 1e3, COMPONENTS[m.governing_component],
+                    m.governing_ppv_m_s * 1e3, m.dominant_frequency_hz, m.din4150_3_limit_m_s * 1e3,
+                    verdict_text(m.din4150_2_verdict), verdict_text(m.din4150_3_verdict)))
+            resolved = sorted({m.resolved_hz for m in live.values() if getattr(m, "resolved_hz", 0.0) > 0})
+            lines += ["", "The standards apply where the sensor stands: DIN 4150-2 (people) and DIN 4150-3 "
+                      "(structures) in and on buildings, not in the free field (\"not applicable\": the figures "
+                      "are for information). DIN 4150-3 (short-term, residential building) compares the peak of "
+                      "each velocity component with its guide value: at the foundation the Table 1 curve at that "
+                      "component's dominant frequency, on a floor 15 mm/s horizontal and 20 mm/s vertical; the "
+                      "vector PPV (peak of |v|) is given for information. DIN 4150-2 compares KB_Fmax with the "
+                      "A_u / A_o guide values of the chosen period. A verdict whose governing frequency lies above "
+                      "the model's resolved frequency (" + (", ".join(f"{f:g} Hz" for f in resolved) or "not recorded")
+                      + ", soil.mesh.f_max_hz) is \"not assessable\". Values and verdicts as the live sensors "
+                      "recorded them (" + names.SENSOR_METRICS + ").", ""]
             not_z = [f"{n}: {shown['sensors'][n]['governing_component']}" for n in sensor_names
                      if shown["sensors"][n]["governing_component"] != "vz"]
             if not_z:
@@ -680,10 +700,10 @@ def main(argv):
             disagree = []
             for name in sensor_names:
                 m, r = live[name], rated[name]
-                lines.append(f"| {name} | {m.kb_f_max:.4f} | {VERDICTS[m.din4150_2_verdict]} | {r['kb_ftr']:.3g} | "
+                lines.append(f"| {name} | {m.kb_f_max:.4f} | {verdict_text(m.din4150_2_verdict)} | {r['kb_ftr']:.3g} | "
                              f"{r['exposure_s']:g} | {r['a_r']:g} | {r['verdict']} ({r['reason']}) |")
                 expected = next((code for text, code in _LIVE_OF_REASON if r["reason"].startswith(text)), None)
-                if expected is not None and expected != m.din4150_2_verdict:
+                if expected is not None and verdicts.judged(m.din4150_2_verdict) and expected != m.din4150_2_verdict:
                     disagree.append(f"{name} (live KB_Fmax {m.kb_f_max:.4f}, recorded samples' {r['kb_fmax']:.4f})")
             lines += ["", "The live verdict judges KB_Fmax alone (OK up to A_u, ERROR above A_o, WARN in between, "
                       "where DIN 4150-2 lets the rating decide); the rated verdict makes the same KB_Fmax test and "

@@ -54,6 +54,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import mitigation  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_verdicts as verdicts  # noqa: E402
 
 try:
     import rosbag
@@ -65,7 +66,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 # own structural ones; anything else with no dot is refused.
 LAUNCH_ARGUMENTS = {"speed", "foundation", "duration", "track", "coupling", "vehicle", "width", "defect_rails", "building",
                     "sim_time"}
-VERDICT = {0: "OK", 1: "WARN", 2: "ERROR"}
 UNITS = {"speed": "m/s", "duration": "s"}  # launch arguments; config keys carry their unit in the name
 COMPONENTS = ("x", "y", "z")
 FIRST_PORT = 11411  # masters of concurrent runs: FIRST_PORT + job slot
@@ -293,13 +293,14 @@ def rows_of(results, keys):
                          "dominant_frequency_hz": m.dominant_frequency_hz,
                          "din4150_3_limit_mm_s": m.din4150_3_limit_m_s * 1e3,
                          "kb_f_max": m.kb_f_max,
-                         "din4150_2": VERDICT.get(m.din4150_2_verdict, "?"),
-                         "din4150_3": VERDICT.get(m.din4150_3_verdict, "?"),
+                         "kind": verdicts.kind_name(m.kind),
+                         "din4150_2": verdicts.verdict_name(m.din4150_2_verdict),
+                         "din4150_3": verdicts.verdict_name(m.din4150_3_verdict),
                          "error": r["error"]})
     return rows
 
 
-COLUMNS = ["ppv_mm_s", "governing_component", "governing_ppv_mm_s", "dominant_frequency_hz", "din4150_3_limit_mm_s",
+COLUMNS = ["kind", "ppv_mm_s", "governing_component", "governing_ppv_mm_s", "dominant_frequency_hz", "din4150_3_limit_mm_s",
            "kb_f_max", "din4150_2", "din4150_3"]
 
 

@@ -25,8 +25,14 @@ constexpr double kGravity_m_s2 = 9.80665;
 using Level = signal::VerdictLevel;
 static_assert(railvib::VibrationMetrics::VERDICT_OK == static_cast<uint8_t>(Level::Ok) &&
                   railvib::VibrationMetrics::VERDICT_WARN == static_cast<uint8_t>(Level::Warn) &&
-                  railvib::VibrationMetrics::VERDICT_ERROR == static_cast<uint8_t>(Level::Error),
+                  railvib::VibrationMetrics::VERDICT_ERROR == static_cast<uint8_t>(Level::Error) &&
+                  railvib::VibrationMetrics::VERDICT_NOT_APPLICABLE == static_cast<uint8_t>(Level::NotApplicable) &&
+                  railvib::VibrationMetrics::VERDICT_NOT_ASSESSABLE == static_cast<uint8_t>(Level::NotAssessable),
               "VibrationMetrics verdicts are signal::VerdictLevel values");
+static_assert(railvib::VibrationMetrics::KIND_FREE_FIELD == static_cast<uint8_t>(signal::SensorKind::FreeField) &&
+                  railvib::VibrationMetrics::KIND_FOUNDATION == static_cast<uint8_t>(signal::SensorKind::Foundation) &&
+                  railvib::VibrationMetrics::KIND_FLOOR == static_cast<uint8_t>(signal::SensorKind::Floor),
+              "VibrationMetrics kinds are signal::SensorKind values");
 static_assert(diagnostic_msgs::DiagnosticStatus::OK == static_cast<uint8_t>(Level::Ok) &&
                   diagnostic_msgs::DiagnosticStatus::WARN == static_cast<uint8_t>(Level::Warn) &&
                   diagnostic_msgs::DiagnosticStatus::ERROR == static_cast<uint8_t>(Level::Error),
@@ -50,6 +56,7 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   config_ = signal::loadVirtualSensorConfig(config.root());
   limits_ = loadStreamLimits(config.root());
   input_rate_hz_ = soil::loadReceiverRateHz(config.root());
+  resolved_hz_ = soil::loadResolvedFrequencyHz(config.root());
   status_ = std::make_unique<NodeStatus>(nh, "virtual_sensor", vehicle::loadPassageParams(config.root()).duration_s);
   bool use_building = true;
   int required_subscribers = 1;
@@ -270,14 +277,16 @@ void VirtualSensorNode::publishSamples(Sensor& s, const std::vector<signal::Sens
 
 void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
   const signal::MonitorSnapshot m = s.sensor->metrics();
-  // DIN 4150-2 (people in buildings) on KB_Fmax; DIN 4150-3 (structures) counts for house sensors.
+  // The standards that apply where the sensor stands, judged up to the soil's resolved frequency.
   const signal::SensorVerdict verdict = signal::sensorVerdict(
-      m, config_.night ? signal::Din4150_2Period::Night : signal::Din4150_2Period::Day, s.setup.source == "building");
+      m, config_.night ? signal::Din4150_2Period::Night : signal::Din4150_2Period::Day, s.setup.kind, resolved_hz_);
   const signal::PpvComponent& governing = verdict.din4150_3.governing;
   railvib::VibrationMetrics msg;
   msg.header.stamp = ros::Time(time_s);
   msg.header.frame_id = names::sensorFrame(s.setup.spec.name);
   msg.sensor_name = s.setup.spec.name;
+  msg.kind = static_cast<uint8_t>(s.setup.kind);
+  msg.resolved_hz = resolved_hz_;
   msg.kb_f = m.kb_f.empty() ? 0.0 : *std::max_element(m.kb_f.begin(), m.kb_f.end());
   msg.kb_f_max = m.kb_fmax_all;
   msg.ppv_m_s = m.ppv.vector_peak_mm_s * 1e-3;
@@ -304,8 +313,15 @@ void VirtualSensorNode::publishMetrics(Sensor& s, double time_s) {
   diagnostic_msgs::DiagnosticStatus status;
   status.name = "railvib/virtual_sensor/" + s.setup.spec.name;
   status.hardware_id = msg.header.frame_id;
-  // VerdictLevel has the values of diagnostic_msgs/DiagnosticStatus OK, WARN, ERROR.
-  status.level = msg.verdict;
+  // VerdictLevel's OK, WARN, ERROR are diagnostic_msgs/DiagnosticStatus's; a standard that does not apply
+  // is OK, one the model cannot judge a warning.
+  if (verdict.level == Level::NotApplicable) {
+    status.level = diagnostic_msgs::DiagnosticStatus::OK;
+  } else if (verdict.level == Level::NotAssessable) {
+    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
+  } else {
+    status.level = msg.verdict;
+  }
   status.message = verdict.reason;
   auto kv = [&](const std::string& k, double v) {
     diagnostic_msgs::KeyValue p;

@@ -2,6 +2,7 @@
 #include "railvib/signal/monitor.hpp"
 
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 
 #include "railvib/signal/spectrum.hpp"
@@ -78,17 +79,56 @@ RecordMetrics evaluateRecord(const std::vector<std::vector<double>>& components_
   return r;
 }
 
-SensorVerdict sensorVerdict(const MonitorSnapshot& metrics, Din4150_2Period period, bool on_structure,
+SensorVerdict sensorVerdict(const MonitorSnapshot& metrics, Din4150_2Period period, SensorKind kind, double resolved_hz,
                             std::optional<double> kb_ftr) {
   SensorVerdict v;
   v.din4150_2 = din4150_2Verdict(metrics.kb_fmax_all, kb_ftr, period);
-  v.din4150_3 = din4150_3Verdict(metrics.ppv);
-  v.level = v.din4150_2.level;
-  v.reason = v.level == VerdictLevel::Ok ? "within guide values" : "DIN 4150-2: " + v.din4150_2.reason;
-  if (on_structure && !v.din4150_3.met) {
-    v.level = VerdictLevel::Error;
-    v.reason = "DIN 4150-3: PPV above the residential guideline";
+  v.din4150_3 = din4150_3Verdict(metrics.ppv, kind);
+  // DIN 4150-2's governing component: the largest KB_Fmax; its frequency: that component's peak's.
+  size_t kb_component = 0;
+  for (size_t c = 1; c < metrics.kb_fmax.size(); ++c) {
+    if (metrics.kb_fmax[c] > metrics.kb_fmax[kb_component]) kb_component = c;
   }
+  if (kb_component < metrics.ppv.components.size()) {
+    v.din4150_2_frequency_hz = metrics.ppv.components[kb_component].frequency_hz;
+  }
+  if (kind == SensorKind::FreeField) {
+    v.din4150_2.level = VerdictLevel::NotApplicable;
+    v.level = VerdictLevel::NotApplicable;
+    v.reason =
+        "free field: DIN 4150-2 (people in buildings) and DIN 4150-3 (structures) do not apply; the metrics "
+        "are for information";
+    return v;
+  }
+  const auto above = [resolved_hz](double f_hz) { return f_hz > resolved_hz; };
+  std::ostringstream unresolved;
+  if (above(v.din4150_2_frequency_hz)) {
+    v.din4150_2.level = VerdictLevel::NotAssessable;
+    unresolved << "DIN 4150-2 not assessable: its governing frequency " << v.din4150_2_frequency_hz
+               << " Hz lies above the resolved " << resolved_hz << " Hz";
+  }
+  if (above(v.din4150_3.governing.frequency_hz)) {
+    v.din4150_3.level = VerdictLevel::NotAssessable;
+    unresolved << (unresolved.tellp() > 0 ? "; " : "") << "DIN 4150-3 not assessable: its governing frequency "
+               << v.din4150_3.governing.frequency_hz << " Hz lies above the resolved " << resolved_hz << " Hz";
+  }
+  const bool judged_2 = v.din4150_2.level != VerdictLevel::NotAssessable;
+  const bool judged_3 = v.din4150_3.level != VerdictLevel::NotAssessable;
+  if (judged_2) {
+    v.level = v.din4150_2.level;
+    v.reason = v.level == VerdictLevel::Ok ? "within guide values" : "DIN 4150-2: " + v.din4150_2.reason;
+  } else if (judged_3) {
+    v.level = v.din4150_3.level;
+    v.reason = v.din4150_3.met ? "DIN 4150-3 within its guideline" : "";
+  } else {
+    v.level = VerdictLevel::NotAssessable;
+  }
+  if (judged_3 && !v.din4150_3.met) {
+    v.level = VerdictLevel::Error;
+    v.reason = kind == SensorKind::Floor ? "DIN 4150-3: PPV above the floor guideline"
+                                         : "DIN 4150-3: PPV above the residential guideline";
+  }
+  if (unresolved.tellp() > 0) v.reason += (v.reason.empty() ? "" : "; ") + unresolved.str();
   return v;
 }
 

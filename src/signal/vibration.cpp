@@ -255,6 +255,64 @@ size_t governingComponent(const PpvEvaluation& ppv) {
   return worst;
 }
 
+std::string verdictName(VerdictLevel level) {
+  switch (level) {
+    case VerdictLevel::Ok:
+      return "OK";
+    case VerdictLevel::Warn:
+      return "WARN";
+    case VerdictLevel::Error:
+      return "ERROR";
+    case VerdictLevel::NotApplicable:
+      return "not applicable";
+    case VerdictLevel::NotAssessable:
+      return "not assessable";
+  }
+  return "?";
+}
+
+std::string sensorKindName(SensorKind kind) {
+  switch (kind) {
+    case SensorKind::FreeField:
+      return "free_field";
+    case SensorKind::Foundation:
+      return "foundation";
+    case SensorKind::Floor:
+      return "floor";
+  }
+  return "?";
+}
+
+SensorKind sensorKindFromName(const std::string& name) {
+  if (name == "free_field") return SensorKind::FreeField;
+  if (name == "foundation") return SensorKind::Foundation;
+  if (name == "floor") return SensorKind::Floor;
+  throw std::invalid_argument("unknown sensor kind '" + name + "' (free_field | foundation | floor)");
+}
+
+PpvEvaluation din4150_3ForKind(const PpvEvaluation& ppv, SensorKind kind) {
+  if (kind != SensorKind::Floor) return ppv;
+  PpvEvaluation floor = ppv;
+  floor.max_ratio = 0.0;
+  for (size_t c = 0; c < floor.components.size(); ++c) {
+    PpvComponent& k = floor.components[c];
+    k.limit_mm_s = c == 2 ? kDin4150_3FloorVerticalMmS : kDin4150_3FloorHorizontalMmS;
+    k.ratio = k.ppv_mm_s / k.limit_mm_s;
+    floor.max_ratio = std::max(floor.max_ratio, k.ratio);
+  }
+  floor.exceeded = floor.max_ratio > 1.0;
+  return floor;
+}
+
+Din4150_3Verdict din4150_3Verdict(const PpvEvaluation& ppv, SensorKind kind) {
+  Din4150_3Verdict v = din4150_3Verdict(din4150_3ForKind(ppv, kind));
+  if (kind == SensorKind::FreeField) {
+    v.met = true;
+    v.level = VerdictLevel::NotApplicable;
+  }
+  return v;
+}
+
 Din4150_3Verdict din4150_3Verdict(const PpvEvaluation& ppv) {
   Din4150_3Verdict v;
   v.met = !ppv.exceeded;

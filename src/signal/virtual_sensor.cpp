@@ -33,6 +33,11 @@ VirtualSensorConfig loadVirtualSensorConfig(const ConfigNode& root) {
     setup.spec.noise_seed = static_cast<uint64_t>(seed) + config.sensors.size();
     setup.source = s.choice("source", {"soil", "building"});
     setup.point = s.text("point");
+    setup.kind = sensorKindFromName(
+        s.choice("kind", {"free_field", "foundation", "floor"}, setup.source == "soil" ? "free_field" : "floor"));
+    if (setup.source == "building" && setup.kind == SensorKind::FreeField) {
+      s.fail("kind", "a sensor in the house stands on its foundation or a floor, not in the free field");
+    }
     for (const auto& other : config.sensors) {
       if (other.spec.name == setup.spec.name) s.fail("name", "duplicate sensor name");
     }

@@ -43,9 +43,12 @@ void readProfileAndDamping(const ConfigNode& soil, SoilParams& p) {
   }
 }
 
+// soil.mesh.f_max_hz: the highest frequency the mesh resolves.
+double meshFrequency(const ConfigNode& mesh) { return mesh.number("f_max_hz", Range::open(0.0, 1e4), 60.0); }
+
 // soil.mesh: the box, resolution, precision, threads, memory cap.
 void readMesh(const ConfigNode& mesh, SoilParams& p) {
-  p.mesh.f_max_hz = mesh.number("f_max_hz", Range::open(0.0, 1e4), 60.0);
+  p.mesh.f_max_hz = meshFrequency(mesh);
   p.mesh.elements_per_wavelength = mesh.number("elements_per_wavelength", Range::closed(4.0, 100.0), 8.0);
   p.mesh.x_min_m = mesh.number("x_min_m", Range::open(-1e5, 1e5));
   p.mesh.x_max_m = mesh.number("x_max_m", Range::open(-1e5, 1e5));
@@ -304,6 +307,8 @@ void checkMemory(const ConfigNode& soil, const SoilParams& p) {
 }  // namespace
 
 double loadReceiverRateHz(const ConfigNode& root) { return receiverRate(root.section("soil").section("output")); }
+
+double loadResolvedFrequencyHz(const ConfigNode& root) { return meshFrequency(root.section("soil").section("mesh")); }
 
 SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
   SoilParams p;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -43,6 +44,11 @@ int metrics(const std::vector<std::string>& args) {
   p.option("unit", "velocity unit of the columns: m_s | mm_s", "m_s");
   p.option("out", "write KB_F(t) per column to this CSV");
   p.option("period", "DIN 4150-2 period for the verdict: day | night", "day");
+  p.option("kind", "where the record was taken: free_field | foundation | floor (which standards apply)", "foundation");
+  p.option("resolved-hz",
+           "highest frequency the record resolves (a model's f_max; verdicts governed above it are "
+           "not assessable); 0 = no limit (a measured record)",
+           "0");
   p.option("exposure-s", "DIN 4150-2 exposure time within the rating period (s) for KB_FTr; default: record length");
   p.option("bands", "one-third-octave nominal range min,max (Hz)", "1,100");
   p.option("vref", "reference velocity for levels (m/s): 1e-9 (ISO 1683) or 5e-8", "1e-9");
@@ -99,20 +105,35 @@ int metrics(const std::vector<std::string>& args) {
   double kb_ftm_max = 0.0;
   for (double v : r.kb_ftm) kb_ftm_max = std::max(kb_ftm_max, v);
   const double kb_ftr = kbFTr(kb_ftm_max, exposure, period);
+  SensorKind kind = SensorKind::Foundation;
+  try {
+    kind = sensorKindFromName(p.get("kind"));
+  } catch (const std::invalid_argument& e) {
+    throw ArgError(std::string("metrics: --kind: ") + e.what());
+  }
+  const double resolved_option = p.getDouble("resolved-hz");
+  if (!(resolved_option >= 0.0 && resolved_option <= 1e6)) throw ArgError("metrics: --resolved-hz in [0, 1e6] Hz");
+  const double resolved_hz = resolved_option > 0.0 ? resolved_option : std::numeric_limits<double>::infinity();
   // The same verdicts as the live sensors, with the rating KB_FTr the whole record gives.
-  const SensorVerdict verdict = sensorVerdict(s, period, true, kb_ftr);
+  const SensorVerdict verdict = sensorVerdict(s, period, kind, resolved_hz, kb_ftr);
   const Din4150_2Verdict& v42 = verdict.din4150_2;
+  // met / not met where a standard judges; otherwise why it does not (not applicable, not assessable).
+  const auto judged = [](VerdictLevel level, bool met, const char* fails) -> std::string {
+    if (level == VerdictLevel::NotApplicable || level == VerdictLevel::NotAssessable) return verdictName(level);
+    return met ? "met" : fails;
+  };
 
   json out;
   out["input"] = {
       {"csv", p.get("csv")},   {"columns", names}, {"unit", unit}, {"rate_hz", fs}, {"samples", comps.front().size()},
       {"duration_s", duration}};
+  const PpvEvaluation ppv = din4150_3ForKind(s.ppv, kind);  // the guidelines where the record was taken
   json kb_comp = json::array();
   json ppv_comp = json::array();
   json oct_comp = json::array();
   for (size_t c = 0; c < names.size(); ++c) {
     kb_comp.push_back({{"column", names[c]}, {"kb_fmax", s.kb_fmax[c]}, {"kb_ftm", r.kb_ftm[c]}});
-    const PpvComponent& pc = s.ppv.components[c];
+    const PpvComponent& pc = ppv.components[c];
     ppv_comp.push_back({{"column", names[c]},
                         {"ppv_mm_s", pc.ppv_mm_s},
                         {"time_s", pc.time_s},
@@ -138,16 +159,24 @@ int metrics(const std::vector<std::string>& args) {
                       {"a_u", v42.guide.a_u},
                       {"a_o", v42.guide.a_o},
                       {"a_r", v42.guide.a_r},
-                      {"verdict", v42.met ? "met" : "not met"},
+                      {"verdict", judged(v42.level, v42.met, "not met")},
+                      {"level", verdictName(v42.level)},
                       {"reason", v42.reason},
                       {"note", "KB_FTr simplified: KB_FTm of 30 s cycles x sqrt(T_e / T_r), no rest-period surcharge"}};
-  out["din4150_3"] = {{"building", "residential (Table 1 row 2), short-term, foundation"},
+  out["sensor"] = {{"kind", sensorKindName(kind)},
+                   {"resolved_hz", resolved_option > 0.0 ? json(resolved_hz) : json(nullptr)},
+                   {"verdict", verdictName(verdict.level)},
+                   {"reason", verdict.reason}};
+  out["din4150_3"] = {{"building", kind == SensorKind::Floor ? "residential, short-term, floors (15 mm/s horizontal, "
+                                                               "20 mm/s vertical)"
+                                                             : "residential (Table 1 row 2), short-term, foundation"},
+                      {"level", verdictName(verdict.din4150_3.level)},
                       {"components", ppv_comp},
                       {"vector_peak_mm_s", s.ppv.vector_peak_mm_s},
                       {"vector_peak_time_s", s.ppv.vector_peak_time_s},
-                      {"max_ratio", s.ppv.max_ratio},
-                      {"governing_component", names[verdict.din4150_3.governing_component]},
-                      {"verdict", verdict.din4150_3.met ? "met" : "exceeded"}};
+                      {"max_ratio", ppv.max_ratio},
+                      {"governing_component", names[std::min(verdict.din4150_3.governing_component, names.size() - 1)]},
+                      {"verdict", judged(verdict.din4150_3.level, verdict.din4150_3.met, "exceeded")}};
   out["third_octave"] = {{"v_ref_m_s", spec.v_ref_m_s},
                          {"method", "6th-order Butterworth band filters, equivalent level over the record"},
                          {"components", oct_comp}};

@@ -499,6 +499,7 @@ def report_bag(path, scenario="day", guides=(0.123, 0.456), spikes_s=None):
     for name, governing in (("ground_2m", 2), ("house_first_floor", 1)):
         m = (rm.VibrationMetrics if guides else metrics_without_guides())()
         m.sensor_name, m.kb_f_max, m.governing_component, m.din4150_2_verdict = name, 0.5, governing, 1
+        m.kind = m.KIND_FLOOR if name.startswith("house") else m.KIND_FREE_FIELD
         if guides:
             m.din4150_2_a_u, m.din4150_2_a_o, m.din4150_2_a_r = guides[0], guides[1], 0.05
         msgs.append((names.SENSOR_METRICS, m))
@@ -597,9 +598,11 @@ class ReportFigures(unittest.TestCase):
     def test_the_exposure_rating_is_the_tools_on_the_recorded_samples(self):
         for extra, exposure_s in (((), 1.0), (("--exposure-s", "3600"), 3600.0)):
             out, shown, md = self.report(report_bag(WORK / "rf_exposure.bag"), *extra)
-            for name in ("ground_2m", "house_first_floor"):
+            # Rated where the sensor stands: the free-field one is not judged, the floor one is.
+            for name, kind in (("ground_2m", "free_field"), ("house_first_floor", "floor")):
                 tool = self.tool_json("metrics", "--csv", str(out / f"{name}_velocity.csv"), "--column", "vx,vy,vz",
-                                      "--exposure-s", str(exposure_s), "--period", "day")["din4150_2"]
+                                      "--exposure-s", str(exposure_s), "--period", "day", "--kind", kind)["din4150_2"]
+                self.assertEqual(tool["verdict"] == "not applicable", kind == "free_field", tool)
                 s = shown["sensors"][name]
                 self.assertEqual((s["kb_ftr"], s["exposure_s"], s["rated_verdict"]),
                                  (tool["kb_ftr"], exposure_s, tool["verdict"]))

@@ -79,6 +79,7 @@ class VirtualSensorNode {
   signal::VirtualSensorConfig config_;
   StreamLimits limits_;
   double input_rate_hz_ = 0.0;  // soil.output.receiver_rate_hz: both sources run at it
+  double resolved_hz_ = 0.0;    // soil.mesh.f_max_hz: verdicts governed above it are not assessable
   std::vector<Sensor> sensors_;
   std::vector<std::unique_ptr<Source>> sources_;
   BlockPublisher<railvib::SensorSamples> samples_publisher_;

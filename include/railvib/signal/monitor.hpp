@@ -65,18 +65,23 @@ struct RecordMetrics {
 /// Offline: the monitor over a whole record; components[c][i] in m/s.
 RecordMetrics evaluateRecord(const std::vector<std::vector<double>>& components_m_s, const MonitorSpec& spec);
 
-/// The verdicts of one sensor's metrics: DIN 4150-2 on KB_Fmax (people in buildings) and DIN 4150-3
-/// on the component peaks (structures, at the foundation). The sensor's level is the DIN 4150-2
-/// level, raised to Error when the sensor stands on the structure (a house sensor) and DIN 4150-3 is
-/// not met; ground sensors carry the DIN 4150-3 evaluation for information.
+/// The verdicts of one sensor's metrics where it stands (SensorKind): DIN 4150-2 on KB_Fmax (people in
+/// buildings: foundation and floor sensors) and DIN 4150-3 (structures: the foundation curve, the floor
+/// values); in the free field neither applies (NotApplicable, the figures kept for information). A
+/// verdict whose governing frequency (the peak's dominant frequency of the component that governs it:
+/// the largest KB_Fmax, the largest PPV / guideline) lies above resolved_hz, the highest frequency the
+/// model resolves (soil.mesh.f_max_hz; infinity for a measured record), is NotAssessable. The sensor's
+/// level is DIN 4150-2's, raised to Error when DIN 4150-3 is not met; DIN 4150-3's when DIN 4150-2 cannot
+/// be judged; NotApplicable in the free field; NotAssessable when neither can be judged.
 struct SensorVerdict {
   VerdictLevel level = VerdictLevel::Ok;
   std::string reason;
   Din4150_2Verdict din4150_2;
   Din4150_3Verdict din4150_3;
+  double din4150_2_frequency_hz = 0.0;  ///< governing frequency of DIN 4150-2's judgement
 };
 /// kb_ftr: the DIN 4150-2 rating if known (offline, with an exposure time), else none (live).
-SensorVerdict sensorVerdict(const MonitorSnapshot& metrics, Din4150_2Period period, bool on_structure,
+SensorVerdict sensorVerdict(const MonitorSnapshot& metrics, Din4150_2Period period, SensorKind kind, double resolved_hz,
                             std::optional<double> kb_ftr = std::nullopt);
 
 }  // namespace railvib::signal

@@ -88,8 +88,20 @@ double kbFTm(const std::vector<double>& kb_f, double fs_hz, double cycle_s = 30.
 /// class, no rest-period surcharge; T_r = 16 h day, 8 h night).
 double kbFTr(double kb_ftm, double exposure_s, Din4150_2Period period);
 
-/// Level of a verdict; the values are those of railvib/VibrationMetrics (VERDICT_OK, _WARN, _ERROR).
-enum class VerdictLevel : uint8_t { Ok = 0, Warn = 1, Error = 2 };
+/// Level of a verdict; the values are those of railvib/VibrationMetrics (VERDICT_OK, _WARN, _ERROR,
+/// _NOT_APPLICABLE: the standard does not apply where the sensor stands, _NOT_ASSESSABLE: the metric's
+/// governing frequency lies above the frequency the model resolves).
+enum class VerdictLevel : uint8_t { Ok = 0, Warn = 1, Error = 2, NotApplicable = 3, NotAssessable = 4 };
+std::string verdictName(VerdictLevel level);
+
+/// Where a sensor stands, which decides what applies to it: DIN 4150-2 judges vibration where people
+/// are, in buildings (foundation and floor sensors); DIN 4150-3 judges structures, at the foundation
+/// (Table 1, column 2-4 curve) and on the floors (uppermost floor horizontal, floor slabs vertical).
+/// In the free field neither applies: the metrics are for information. Values of VibrationMetrics KIND_*.
+enum class SensorKind : uint8_t { FreeField = 0, Foundation = 1, Floor = 2 };
+std::string sensorKindName(SensorKind kind);
+/// "free_field" | "foundation" | "floor"; throws std::invalid_argument otherwise.
+SensorKind sensorKindFromName(const std::string& name);
 
 struct Din4150_2Verdict {
   bool met = false;
@@ -111,6 +123,10 @@ Din4150_2Verdict din4150_2Verdict(double kb_fmax, std::optional<double> kb_ftr, 
 /// foundation: guideline PPV (mm/s) at dominant frequency f: 5 below 10 Hz,
 /// 5 -> 15 over 10-50 Hz, 15 -> 20 over 50-100 Hz, 20 above.
 double din4150_3ResidentialLimitMmS(double f_hz);
+/// DIN 4150-3 on the floors of a residential building, short-term, at any frequency: 15 mm/s horizontal
+/// (Table 1 row 2, the plane of the uppermost floor) and 20 mm/s vertical (floor slabs, section 5.1).
+constexpr double kDin4150_3FloorHorizontalMmS = 15.0;
+constexpr double kDin4150_3FloorVerticalMmS = 20.0;
 
 /// Peak of |v| of one component with the dominant frequency of the half cycle
 /// that holds it: f = 1 / (2 (t_zc2 - t_zc1)) between the zero crossings
@@ -192,7 +208,14 @@ struct Din4150_3Verdict {
   size_t governing_component = 0;
   PpvComponent governing;  ///< its peak, dominant frequency and guideline
 };
-/// DIN 4150-3 Table 1 row 2 (residential building, short-term, at the foundation).
+/// DIN 4150-3 Table 1 row 2 (residential building, short-term) at the foundation: each component
+/// against the frequency-dependent curve.
 Din4150_3Verdict din4150_3Verdict(const PpvEvaluation& ppv);
+/// The components' guidelines (limit, ratio, max_ratio, exceeded) for a sensor of `kind`: the foundation
+/// curve at the foundation and in the free field (for information), the floor values on a floor (x, y
+/// horizontal, z vertical).
+PpvEvaluation din4150_3ForKind(const PpvEvaluation& ppv, SensorKind kind);
+/// DIN 4150-3 for a sensor of `kind` (din4150_3ForKind's guidelines); NotApplicable in the free field.
+Din4150_3Verdict din4150_3Verdict(const PpvEvaluation& ppv, SensorKind kind);
 
 }  // namespace railvib::signal

@@ -44,6 +44,8 @@ struct VirtualSensorSetup {
   VirtualSensorSpec spec;  ///< input_rate_hz is set when the input stream is known
   std::string source;      ///< "soil" (SurfaceVelocities) or "building" (BuildingResponse)
   std::string point;       ///< name of the receiver / response point in that stream
+  /// Where it stands, which decides the standards judged on it (vibration.hpp).
+  SensorKind kind = SensorKind::FreeField;
 };
 
 struct VirtualSensorConfig {
@@ -54,7 +56,8 @@ struct VirtualSensorConfig {
   std::vector<VirtualSensorSetup> sensors;
 };
 
-/// Read the `virtual_sensors` section (validated; names unique, sources soil|building).
+/// Read the `virtual_sensors` section (validated; names unique, sources soil|building; kind
+/// free_field | foundation | floor, by default free_field for a soil sensor, floor for a house one).
 VirtualSensorConfig loadVirtualSensorConfig(const ConfigNode& root);
 
 class VirtualSensor {

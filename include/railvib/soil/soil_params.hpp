@@ -59,5 +59,8 @@ SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house = 
 /// soil.output.receiver_rate_hz alone (the rate of the soil's velocity stream, for its consumers),
 /// read by the same rule as loadSoilParams, without building the mesh.
 double loadReceiverRateHz(const ConfigNode& root);
+/// soil.mesh.f_max_hz alone (the highest frequency the soil resolves: verdicts whose governing frequency
+/// lies above it are not assessable), read by the same rule as loadSoilParams.
+double loadResolvedFrequencyHz(const ConfigNode& root);
 
 }  // namespace railvib::soil

@@ -162,21 +162,65 @@ TEST(Din4150_3, GoverningComponentIsTheClosestToItsGuideline) {
   EXPECT_EQ(fails.governing_component, 0u);
 }
 
-// A sensor's level: DIN 4150-2's, raised to Error by DIN 4150-3 on a structure only.
-TEST(SensorVerdict, StructureGuidelineCountsOnTheHouseOnly) {
+// A sensor's level: DIN 4150-2's, raised to Error by DIN 4150-3, where the standards apply (in and on
+// buildings), up to the frequency the model resolves.
+TEST(SensorVerdict, StandardsApplyWhereTheSensorStands) {
+  const double resolved = 50.0;
   MonitorSnapshot m;
+  m.kb_fmax = {0.1, 0.1, 0.5};
   m.kb_fmax_all = 0.5;  // between A_u and A_o (day): a warning without a rating
   m.ppv = evaluation({component(1.0, 20.0), component(1.0, 20.0), component(6.0, 8.0)});  // 6 > 5 mm/s at 8 Hz
-  const SensorVerdict ground = sensorVerdict(m, Din4150_2Period::Day, false);
-  EXPECT_EQ(ground.level, VerdictLevel::Warn) << ground.reason;
-  EXPECT_FALSE(ground.din4150_3.met);
+  // In the free field neither standard applies: the figures stay, the verdicts say so.
+  const SensorVerdict ground = sensorVerdict(m, Din4150_2Period::Day, SensorKind::FreeField, resolved);
+  EXPECT_EQ(ground.level, VerdictLevel::NotApplicable) << ground.reason;
+  EXPECT_EQ(ground.din4150_2.level, VerdictLevel::NotApplicable);
+  EXPECT_EQ(ground.din4150_3.level, VerdictLevel::NotApplicable);
   EXPECT_EQ(ground.din4150_3.governing_component, 2u);
-  const SensorVerdict house = sensorVerdict(m, Din4150_2Period::Day, true);
-  EXPECT_EQ(house.level, VerdictLevel::Error) << house.reason;
-  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, false, 0.01).level, VerdictLevel::Ok);  // rated: met
-  m.kb_fmax_all = 0.1;
+  EXPECT_DOUBLE_EQ(ground.din4150_3.governing.limit_mm_s, 5.0);
+  // At the foundation: the curve (5 mm/s at 8 Hz) is exceeded.
+  const SensorVerdict foundation = sensorVerdict(m, Din4150_2Period::Day, SensorKind::Foundation, resolved);
+  EXPECT_EQ(foundation.level, VerdictLevel::Error) << foundation.reason;
+  EXPECT_EQ(foundation.din4150_2.level, VerdictLevel::Warn);
+  // On a floor: 20 mm/s vertical, 15 mm/s horizontal: met; DIN 4150-2 warns.
+  const SensorVerdict floor = sensorVerdict(m, Din4150_2Period::Day, SensorKind::Floor, resolved);
+  EXPECT_EQ(floor.level, VerdictLevel::Warn) << floor.reason;
+  EXPECT_TRUE(floor.din4150_3.met);
+  EXPECT_DOUBLE_EQ(floor.din4150_3.governing.limit_mm_s, kDin4150_3FloorVerticalMmS);
+  EXPECT_DOUBLE_EQ(floor.din4150_3.governing.ratio, 6.0 / 20.0);
+  m.ppv = evaluation({component(16.0, 20.0), component(1.0, 20.0), component(6.0, 8.0)});  // 16 > 15 horizontal
+  const SensorVerdict swaying = sensorVerdict(m, Din4150_2Period::Day, SensorKind::Floor, resolved);
+  EXPECT_EQ(swaying.level, VerdictLevel::Error) << swaying.reason;
+  EXPECT_EQ(swaying.din4150_3.governing_component, 0u);
+  // A rating decides DIN 4150-2's middle case.
   m.ppv = evaluation({component(1.0, 20.0), component(1.0, 20.0), component(1.0, 8.0)});
-  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, true).level, VerdictLevel::Ok);
+  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, SensorKind::Foundation, resolved, 0.01).level, VerdictLevel::Ok);
+  m.kb_fmax_all = 0.1;
+  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, SensorKind::Floor, resolved).level, VerdictLevel::Ok);
+}
+
+TEST(SensorVerdict, GovernedAboveTheResolvedFrequencyIsNotAssessable) {
+  MonitorSnapshot m;
+  m.kb_fmax = {0.05, 0.05, 0.1};
+  m.kb_fmax_all = 0.1;
+  // The vertical component governs both standards, its peak at 70 Hz: above a 50 Hz mesh.
+  m.ppv = evaluation({component(1.0, 20.0), component(1.0, 20.0), component(16.0, 70.0)});
+  const SensorVerdict v = sensorVerdict(m, Din4150_2Period::Day, SensorKind::Foundation, 50.0);
+  EXPECT_EQ(v.din4150_2.level, VerdictLevel::NotAssessable);
+  EXPECT_EQ(v.din4150_3.level, VerdictLevel::NotAssessable);
+  EXPECT_EQ(v.level, VerdictLevel::NotAssessable) << v.reason;
+  EXPECT_NE(v.reason.find("70 Hz lies above the resolved 50 Hz"), std::string::npos) << v.reason;
+  // Resolved to 100 Hz, the same record is judged (16 mm/s at 70 Hz: below the curve's 17).
+  EXPECT_EQ(sensorVerdict(m, Din4150_2Period::Day, SensorKind::Foundation, 100.0).level, VerdictLevel::Ok);
+  // DIN 4150-2 governed by a resolved horizontal component, DIN 4150-3 by the unresolved vertical one.
+  m.kb_fmax = {0.5, 0.05, 0.1};
+  m.kb_fmax_all = 0.5;
+  const SensorVerdict half = sensorVerdict(m, Din4150_2Period::Day, SensorKind::Foundation, 50.0);
+  EXPECT_EQ(half.din4150_2.level, VerdictLevel::Warn);
+  EXPECT_EQ(half.din4150_3.level, VerdictLevel::NotAssessable);
+  EXPECT_EQ(half.level, VerdictLevel::Warn) << half.reason;
+  EXPECT_EQ(verdictName(VerdictLevel::NotAssessable), "not assessable");
+  EXPECT_EQ(sensorKindFromName(sensorKindName(SensorKind::Floor)), SensorKind::Floor);
+  EXPECT_THROW(sensorKindFromName("roof"), std::invalid_argument);
 }
 
 TEST(Din4150_3, ResidentialLine) {
