@@ -98,6 +98,30 @@ long ArgParser::getInt(const std::string& name) const {
   return v;
 }
 
+std::vector<double> ArgParser::getDoubles(const std::string& name, double lo, double hi) const {
+  const std::string text = get(name);
+  std::vector<double> out;
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) {
+    size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size() || !std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream why;
+      why << command_ << ": --" << name << " = '" << text << "': '" << item << "' is not a number in [" << lo << ", "
+          << hi << "]";
+      throw ArgError(why.str());
+    }
+    out.push_back(v);
+  }
+  if (out.empty()) throw ArgError(command_ + ": --" + name + " needs at least one value");
+  return out;
+}
+
 std::vector<std::string> ArgParser::getAll(const std::string& name) const {
   std::vector<std::string> out;
   auto range = values_.equal_range(name);

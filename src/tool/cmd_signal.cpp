@@ -87,12 +87,12 @@ int metrics(const std::vector<std::string>& args) {
     }
     comps.push_back(std::move(v));
   }
-  const auto range = splitList(p.get("bands"));
-  if (range.size() != 2) throw ArgError("metrics: --bands must be min,max");
+  const std::vector<double> range = p.getDoubles("bands", 0.1, 20000.0);
+  if (range.size() != 2 || !(range[0] < range[1])) throw ArgError("metrics: --bands must be min,max with min < max");
   MonitorSpec spec;
   spec.fs_hz = fs;
-  spec.third_octave_min_hz = std::stod(range[0]);
-  spec.third_octave_max_hz = std::stod(range[1]);
+  spec.third_octave_min_hz = range[0];
+  spec.third_octave_max_hz = range[1];
   spec.v_ref_m_s = p.getDouble("vref");
   const RecordMetrics r = evaluateRecord(comps, spec);
   const auto& s = r.summary;
@@ -211,8 +211,7 @@ int dinCheck(const std::vector<std::string>& args) {
   out["tolerance"] = tol;
   bool all_pass = true;
   json tables = json::array();
-  for (const auto& rs : splitList(p.get("rate"))) {
-    const double fs = std::stod(rs);
+  for (const double fs : p.getDoubles("rate", 300.0, 1.0e6)) {
     json rows = json::array();
     for (const auto& r : din45669TestTable(fs)) {
       const double e1 = r.kb_f / r.expected_kb_f - 1.0;

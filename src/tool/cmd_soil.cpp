@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -43,15 +44,20 @@ struct BenchArgs {
   const ArgParser& p;
   std::vector<Precision> precisions;
 
-  /// Comma-separated list option, at least one value.
+  /// Comma-separated list option, at least one value, each within the option's physical range.
   std::vector<double> list(const std::string& key) const {
-    std::vector<double> v;
-    std::stringstream ss(p.get(key));
-    for (std::string item; std::getline(ss, item, ',');) {
-      if (!item.empty()) v.push_back(std::stod(item));
-    }
-    if (v.empty()) throw ArgError("soil-bench: --" + key + " needs at least one value");
-    return v;
+    static const std::map<std::string, std::pair<double, double>> kRanges = {{"layer", {0.0, 1e3}},
+                                                                             {"exponent", {0.0, 10.0}},
+                                                                             {"alpha", {0.0, 1e4}},
+                                                                             {"pml-thickness", {0.0, 1e3}},
+                                                                             {"pml-reflection", {1e-12, 1.0}},
+                                                                             {"pml-exponent", {0.0, 10.0}},
+                                                                             {"pml-kappa", {1.0, 100.0}},
+                                                                             {"pml-alpha", {0.0, 1e4}},
+                                                                             {"pml-ratio", {0.0, 1.0}},
+                                                                             {"box", {0.1, 1e3}}};
+    const auto range = kRanges.at(key);
+    return p.getDoubles(key, range.first, range.second);
   }
   /// The product of --layer x --exponent x --alpha, with --layer-bottom.
   void addLayerCases(std::vector<ReflectionCase>& cases) const {

@@ -19,14 +19,8 @@ using nlohmann::json;
 using namespace railvib::soil;
 
 std::vector<double> numberList(const ArgParser& p, const std::string& key) {
-  std::vector<double> v;
-  std::stringstream ss(p.get(key));
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) v.push_back(std::stod(item));
-  }
-  if (v.empty()) throw ArgError("ssi-bench: --" + key + " needs at least one value");
-  return v;
+  // Element sizes and boxes (m), dimensionless frequencies, mass ratios, wave speeds (m/s): all positive.
+  return p.getDoubles(key, 1e-9, 1e6);
 }
 
 // An option whose default is its case's spec default (one place for it): assigned only when given.

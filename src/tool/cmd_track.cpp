@@ -39,24 +39,6 @@ std::string fmt(double v) {
   return s.str();
 }
 
-std::vector<double> parseList(const std::string& text, const std::string& option) {
-  std::vector<double> out;
-  std::stringstream s(text);
-  std::string item;
-  while (std::getline(s, item, ',')) {
-    try {
-      size_t used = 0;
-      const double v = std::stod(item, &used);
-      if (used != item.size() || !std::isfinite(v) || v <= 0.0) throw std::invalid_argument(item);
-      out.push_back(v);
-    } catch (const std::exception&) {
-      throw ArgError("--" + option + ": '" + item + "' is not a positive number");
-    }
-  }
-  if (out.empty()) throw ArgError("--" + option + ": empty list");
-  return out;
-}
-
 /// The --foundation option as a config override (none when not given).
 std::vector<std::string> foundationOverride(const ArgParser& args) {
   if (!args.has("foundation")) return {};
@@ -112,8 +94,7 @@ int runReceptance(const std::vector<std::string>& argv) {
   if ((fmax - fmin) / df > 200000) throw ArgError("--df too small: more than 200000 frequencies");
   std::string vary = args.has("vary") ? args.get("vary") : "";
   if (!vary.empty() && vary != "kb" && vary != "kf") throw ArgError("--vary must be kb or kf");
-  const std::vector<double> factors =
-      vary.empty() ? std::vector<double>{1.0} : parseList(args.get("factors"), "factors");
+  const std::vector<double> factors = vary.empty() ? std::vector<double>{1.0} : args.getDoubles("factors", 1e-6, 1e6);
   const bool fe_soil = args.has("foundation") && args.get("foundation") == "fe_soil";
   if (fe_soil && vary == "kf") throw ArgError("--vary kf: the FE soil has no foundation stiffness (vary its layers)");
   for (const char* option : {"soil-duration", "soil-pulse", "reach"}) {

@@ -318,6 +318,19 @@ class Cases:
         s = self.run("metrics", "--csv", path, "--column", "vz")
         c = s["din4150_3"]["components"][0]
         check(abs(c["ppv_mm_s"] - 1.0) < 0.01 and abs(c["dominant_frequency_hz"] - 10) < 0.5, c)
+        # Where the record was taken decides what is judged: nothing in the free field; a 10 Hz peak is
+        # not assessable for a model resolving 8 Hz.
+        s = self.run("metrics", "--csv", path, "--column", "vz", "--kind", "free_field")
+        check(s["sensor"]["verdict"] == "not applicable" and s["din4150_3"]["verdict"] == "not applicable", s["sensor"])
+        s = self.run("metrics", "--csv", path, "--column", "vz", "--resolved-hz", "8")
+        check(s["sensor"]["verdict"] == "not assessable" and "10" in s["sensor"]["reason"], s["sensor"])
+        # A list option's items are numbers within its range, or refused by name (no raw conversion error).
+        for args, message in ((["--bands", "1,nan"], "--bands = '1,nan': 'nan' is not a number in"),
+                              (["--bands", "1,x"], "'x' is not a number in"),
+                              (["--kind", "roof"], "unknown sensor kind 'roof'")):
+            out = subprocess.run([self.tool, "metrics", "--csv", str(path), "--column", "vz"] + args,
+                                 capture_output=True, text=True)
+            check(out.returncode != 0 and message in out.stderr, (args, out.stderr))
 
     def din_check(self):
         s = self.run("din-check", "--rate", "1000")

@@ -33,6 +33,9 @@ class ArgParser {
   std::string get(const std::string& name) const;
   double getDouble(const std::string& name) const;
   long getInt(const std::string& name) const;
+  /// A comma-separated list of numbers, at least one, each finite and within [lo, hi] (ArgError naming
+  /// the option, the item and the range otherwise).
+  std::vector<double> getDoubles(const std::string& name, double lo, double hi) const;
   /// All values given to a repeatable option (e.g. --set a=b --set c=d).
   std::vector<std::string> getAll(const std::string& name) const;
   std::string usage() const;
