@@ -11,6 +11,7 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <tuple>
 
 #include "command_registry.hpp"
 #include "railvib/coupling/track_on_soil.hpp"
@@ -55,6 +56,16 @@ double positiveOption(const ArgParser& args, const std::string& name) {
 }
 
 // ------------------------------------------------------------------ receptance
+/// A resilient layer as configured and as modelled (spring and damper per rail seat).
+json layerJson(const track::ResilientLayer& l) {
+  return {{"bedding_modulus_n_mm3", l.bedding_modulus_n_mm3},
+          {"bearing_area_per_rail_seat_m2", l.bearing_area_m2},
+          {"loss_factor", l.loss_factor},
+          {"reference_frequency_hz", l.reference_frequency_hz},
+          {"stiffness_n_m", l.stiffnessNPerM()},
+          {"damping_n_s_m", l.dampingNsPerM()}};
+}
+
 int runReceptance(const std::vector<std::string>& argv) {
   ArgParser args("receptance",
                  "direct point receptance of the rail (m/N) from the track model's M, C, K; CSV f_hz,re,im,abs");
@@ -218,6 +229,9 @@ int runReceptance(const std::vector<std::string>& argv) {
                   {"frequencies", f.size()},
                   {"csv", args.get("csv")}};
   if (soil) summary["soil_run"] = soil->summary();
+  // the resilient layers, when configured (absent: the summary as before)
+  if (base.under_sleeper_pad) summary["under_sleeper_pad"] = layerJson(*base.under_sleeper_pad);
+  if (base.under_ballast_mat) summary["under_ballast_mat"] = layerJson(*base.under_ballast_mat);
   if (vary.empty()) {
     if (!fe_soil) summary["static_receptance_m_n"] = runs[0]["static_receptance_m_n"];
     summary["peaks"] = runs[0]["peaks"];
@@ -436,9 +450,167 @@ int runTrackBench(const std::vector<std::string>& argv) {
   return 0;
 }
 
+// ------------------------------------------------------------------ insertion-loss
+/// Largest |a/b - 1| of two curves over the frequencies up to f_max (Hz), and where it is.
+std::pair<double, double> worstRelativeError(const std::vector<double>& f, const std::vector<std::complex<double>>& a,
+                                             const std::vector<std::complex<double>>& b, double f_max) {
+  double worst = 0.0, at = 0.0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f[i] > f_max) break;
+    const double e = std::abs(std::abs(a[i]) / std::abs(b[i]) - 1.0);
+    if (e > worst) {
+      worst = e;
+      at = f[i];
+    }
+  }
+  return {worst, at};
+}
+
+int runInsertionLoss(const std::vector<std::string>& argv) {
+  ArgParser args("insertion-loss",
+                 "a resilient layer (under-sleeper pad | under-ballast mat, from its config section) against the "
+                 "track without it: rail receptance and force transmissibility to the foundation, both against the "
+                 "continuous beam's closed form (rigid and Winkler bases), and the insertion loss of the force");
+  addConfigOptions(args);
+  args.option("measure", "usp (track.under_sleeper_pad) | ubm (track.under_ballast_mat) | both", "usp")
+      .option("foundation", "clm | winkler | rigid (default: track.foundation.model)")
+      .option("at", "midspan | sleeper (the load at the sleeper nearest x = 0, or the midspan after it)", "sleeper")
+      .option("fmin", "lowest frequency (Hz)", "1")
+      .option("fmax", "highest frequency (Hz)", "400")
+      .option("df", "frequency step (Hz)", "0.5")
+      .option("band",
+              "the closed-form comparison's upper frequency (Hz; also reported up to f_pp / 2, where the discrete "
+              "supports depart by a few %)",
+              "150")
+      .option("csv",
+              "output CSV: f_hz, receptance and transmissibility without / with (discrete and closed form), "
+              "insertion loss (dB)");
+  if (!args.parse(argv)) return 0;
+  const std::string measure = args.get("measure"), at = args.get("at");
+  if (measure != "usp" && measure != "ubm" && measure != "both") throw ArgError("--measure must be usp, ubm or both");
+  if (at != "midspan" && at != "sleeper") throw ArgError("--at must be midspan or sleeper");
+  const double fmin = positiveOption(args, "fmin"), fmax = positiveOption(args, "fmax"),
+               df = positiveOption(args, "df");
+  if (fmax <= fmin) throw ArgError("--fmax must be greater than --fmin");
+  if ((fmax - fmin) / df > 200000) throw ArgError("--df too small: more than 200000 frequencies");
+  const double band = positiveOption(args, "band");
+  // the measure's section switched on (its values as configured), the other layer taken out
+  std::vector<std::string> on = foundationOverride(args);
+  if (measure != "ubm") on.push_back("track.under_sleeper_pad.enabled=true");
+  if (measure != "usp") on.push_back("track.under_ballast_mat.enabled=true");
+  const Config cfg = loadConfig(args, on);
+  TrackParams with = track::loadTrackParams(cfg.root());
+  if (measure == "usp") with.under_ballast_mat.reset();
+  if (measure == "ubm") with.under_sleeper_pad.reset();
+  TrackParams without = with;
+  without.under_sleeper_pad.reset();
+  without.under_ballast_mat.reset();
+
+  std::vector<double> f;
+  for (long i = 0;; ++i) {
+    const double v = fmin + static_cast<double>(i) * df;
+    if (v > fmax + 1e-9 * df) break;
+    f.push_back(v);
+  }
+  const TrackModel model_without(without), model_with(with);
+  const auto& xs = model_with.sleeperPositions();
+  const size_t i0 = std::min(static_cast<size_t>(model_with.nearestSleeper(0.0)), xs.size() - 2);
+  const double x = at == "sleeper" ? xs[i0] : xs[i0] + 0.5 * with.layout.spacing_m;
+  const RailLoading loading = model_with.railCount() == 2 ? RailLoading::Both : RailLoading::Left;
+  const auto r0 = model_without.receptance(x, f, loading), r1 = model_with.receptance(x, f, loading);
+  const auto t0 = track::foundationForceTransmissibility(model_without, x, f, loading);
+  const auto t1 = track::foundationForceTransmissibility(model_with, x, f, loading);
+  std::vector<double> il(f.size());
+  for (size_t i = 0; i < f.size(); ++i) il[i] = track::insertionLossDb(t0[i], t1[i]);
+  const double fpp = track::pinnedPinnedFrequency(with);
+
+  // the closed form of the same layered support (continuous beam; not for the CLM)
+  const bool closed = with.foundation != FoundationModel::Clm;
+  std::vector<std::complex<double>> cr0, cr1, ct0, ct1;
+  std::vector<double> cil;
+  if (closed) {
+    for (double fi : f) {
+      cr0.push_back(track::continuousBeamReceptance(without, fi));
+      cr1.push_back(track::continuousBeamReceptance(with, fi));
+      ct0.push_back(track::continuousBeamForceTransmissibility(without, fi));
+      ct1.push_back(track::continuousBeamForceTransmissibility(with, fi));
+      cil.push_back(track::insertionLossDb(ct0.back(), ct1.back()));
+    }
+  }
+  if (args.has("csv")) {
+    std::vector<std::string> columns{
+        "f_hz",       "abs_receptance_without_m_n", "abs_receptance_with_m_n", "abs_t_without",
+        "abs_t_with", "insertion_loss_db"};
+    if (closed) {
+      for (const char* c : {"closed_abs_receptance_without_m_n", "closed_abs_receptance_with_m_n",
+                            "closed_abs_t_without", "closed_abs_t_with", "closed_insertion_loss_db"})
+        columns.push_back(c);
+    }
+    io::CsvWriter csv(args.get("csv"), columns);
+    std::vector<double> row;
+    for (size_t i = 0; i < f.size(); ++i) {
+      row = {f[i], std::abs(r0[i]), std::abs(r1[i]), std::abs(t0[i]), std::abs(t1[i]), il[i]};
+      if (closed) {
+        for (double v : {std::abs(cr0[i]), std::abs(cr1[i]), std::abs(ct0[i]), std::abs(ct1[i]), cil[i]})
+          row.push_back(v);
+      }
+      csv.row(row);
+    }
+    csv.commit();
+  }
+  const auto lowest = std::min_element(il.begin(), il.end());
+  json summary = {{"command", "insertion-loss"},
+                  {"measure", measure},
+                  {"foundation", track::foundationName(with.foundation)},
+                  {"width", with.width == track::TrackWidth::Full ? "full" : "half"},
+                  {"at", at},
+                  {"x_m", x},
+                  {"f_pinned_pinned_hz", fpp},
+                  {"frequencies", f.size()},
+                  {"insertion_loss_crossings_hz", track::zeroCrossings(f, il)},
+                  {"min_insertion_loss_db", *lowest},
+                  {"f_at_min_insertion_loss_hz", f[static_cast<size_t>(lowest - il.begin())]},
+                  {"insertion_loss_at_fmax_db", il.back()},
+                  {"csv", args.has("csv") ? args.get("csv") : ""}};
+  if (with.under_sleeper_pad) summary["under_sleeper_pad"] = layerJson(*with.under_sleeper_pad);
+  if (with.under_ballast_mat) summary["under_ballast_mat"] = layerJson(*with.under_ballast_mat);
+  json peaks = json::array();
+  for (const auto& pk : track::findPeaks(f, t1))
+    peaks.push_back({{"frequency_hz", pk.frequency_hz}, {"abs_t", pk.magnitude_m_n}});
+  summary["transmissibility_peaks_with"] = peaks;
+  if (closed) {
+    // the discrete supports follow the continuous beam below the pinned-pinned frequency: compared up to --band
+    // and up to f_pp / 2
+    const std::vector<
+        std::tuple<std::string, const std::vector<std::complex<double>>*, const std::vector<std::complex<double>>*>>
+        pairs{{"receptance_without", &r0, &cr0},
+              {"receptance_with", &r1, &cr1},
+              {"transmissibility_without", &t0, &ct0},
+              {"transmissibility_with", &t1, &ct1}};
+    for (const auto& [key, limit] : {std::pair{"closed_form_errors_up_to_band", band},
+                                     std::pair{"closed_form_errors_up_to_half_f_pp", 0.5 * fpp}}) {
+      json errors = {{"up_to_hz", std::min(limit, f.back())}};
+      for (const auto& [name, a, b] : pairs) {
+        const auto [worst, where] = worstRelativeError(f, *a, *b, limit);
+        errors[name] = {{"max_relative_error", worst}, {"at_hz", where}};
+      }
+      summary[key] = errors;
+    }
+    summary["closed_form_insertion_loss_crossings_hz"] = track::zeroCrossings(f, cil);
+    summary["closed_form_min_insertion_loss_db"] = *std::min_element(cil.begin(), cil.end());
+  } else {
+    summary["closed_form"] = "none for the CLM foundation (masses coupled along the track): --foundation rigid|winkler";
+  }
+  printJson(summary);
+  return 0;
+}
+
 const Registrar kReceptance("receptance", "rail point receptance of the track model (CSV + peaks)", runReceptance);
 const Registrar kMovingLoad("moving-load", "constant moving loads: ballast-to-soil loads per sleeper (CSV)",
                             runMovingLoad);
+const Registrar kInsertionLoss("insertion-loss",
+                               "a resilient layer (USP / UBM): receptance, force transmissibility, insertion loss",
+                               runInsertionLoss);
 const Registrar kTrackBench("track-bench", "microseconds per Newmark step of the track (100 m)", runTrackBench);
 
 }  // namespace

@@ -44,13 +44,33 @@ double pinnedPinnedFrequency(const TrackParams& p) {
          (2.0 * M_PI);
 }
 
-std::complex<double> continuousBeamReceptance(const TrackParams& p, double frequency_hz) {
+SmearedSupport smearedSupport(const TrackParams& p, double frequency_hz) {
   using C = std::complex<double>;
+  if (p.foundation == FoundationModel::Clm) {
+    throw std::invalid_argument(
+        "track: the smeared support has a closed form on a rigid base or the Winkler foundation, not the CLM");
+  }
   const double w = 2.0 * M_PI * frequency_hz, L = p.layout.spacing_m;
   const C sp = C(p.railpad_stiffness_n_m, w * p.railpad_damping_n_s_m) / L;
-  const C sb = C(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m) / L;
+  // the layers under the sleeper in series (massless junctions): compliances add
+  C flex = L / C(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m);
+  for (const auto* layer : {&p.under_sleeper_pad, &p.under_ballast_mat}) {
+    if (*layer) flex += L / C((*layer)->stiffnessNPerM(), w * (*layer)->dampingNsPerM());
+  }
+  if (p.foundation == FoundationModel::Winkler) flex += L / C(p.winkler.stiffness_n_m, w * p.winkler.damping_n_s_m);
+  SmearedSupport out;
+  out.below_sleeper_n_m2 = 1.0 / flex;
+  const C sb = out.below_sleeper_n_m2;
   const double ms = p.sleeper_mass_kg / L;
-  const C stot = sp * (sb - ms * w * w) / (sp + sb - ms * w * w);
+  out.rail_support_n_m2 = sp * (sb - ms * w * w) / (sp + sb - ms * w * w);
+  out.ground_force_n_m2 = sp * sb / (sp + sb - ms * w * w);
+  return out;
+}
+
+std::complex<double> continuousBeamReceptance(const TrackParams& p, double frequency_hz) {
+  using C = std::complex<double>;
+  const double w = 2.0 * M_PI * frequency_hz;
+  const C stot = smearedSupport(p, frequency_hz).rail_support_n_m2;
   const double EI = p.rail_bending_stiffness_n_m2;
   const C k4 = (p.rail_mass_per_length_kg_m * w * w - stot) / EI;
   // Of the four roots take the one with Re k > 0, Im k <= 0: waves e^{i(wt - kx)}
@@ -65,6 +85,82 @@ std::complex<double> continuousBeamReceptance(const TrackParams& p, double frequ
   return -C(1.0, 1.0) / (4.0 * EI * k * k * k);
 }
 
+std::complex<double> continuousBeamForceTransmissibility(const TrackParams& p, double frequency_hz) {
+  const double w = 2.0 * M_PI * frequency_hz;
+  const SmearedSupport s = smearedSupport(p, frequency_hz);
+  return s.ground_force_n_m2 / (s.rail_support_n_m2 - p.rail_mass_per_length_kg_m * w * w);
+}
+
+std::vector<std::complex<double>> foundationForceTransmissibility(const TrackModel& model, double x_m,
+                                                                  const std::vector<double>& frequencies_hz,
+                                                                  RailLoading loading) {
+  using Cplx = std::complex<double>;
+  if (loading == RailLoading::AntiPhase) {
+    throw std::invalid_argument("track: no net load in anti-phase: the force transmissibility needs one rail or both");
+  }
+  if (model.railCount() == 1 && loading == RailLoading::Right) {
+    throw std::invalid_argument("track: a half track (track.width: half) has one rail: load it alone (left or both)");
+  }
+  const bool both = model.railCount() == 2 && loading == RailLoading::Both;
+  Eigen::VectorXcd load = Eigen::VectorXcd::Zero(model.dofCount());
+  auto addUnit = [&](Rail rail) {
+    const RailPoint rp = model.railPoint(x_m, rail);
+    for (int k = 0; k < 4; ++k) load[rp.dofs[k]] += rp.weights[k];
+  };
+  if (loading == RailLoading::Right) {
+    addUnit(Rail::Right);
+  } else {
+    addUnit(Rail::Left);
+    if (both) addUnit(Rail::Right);
+  }
+  const double applied_n = both ? 2.0 : 1.0;
+  std::vector<Rail> seats{Rail::Left};
+  if (model.railCount() == 2) seats.push_back(Rail::Right);
+  Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
+  bool analysed = false;
+  std::vector<Cplx> out;
+  out.reserve(frequencies_hz.size());
+  std::vector<double> re, im;
+  for (double f : frequencies_hz) {
+    const Eigen::SparseMatrix<Cplx> a = model.dynamicStiffness(f);
+    if (!analysed) {
+      lu.analyzePattern(a);
+      analysed = true;
+    }
+    lu.factorize(a);
+    if (lu.info() != Eigen::Success) throw std::runtime_error("track: transmissibility factorisation failed");
+    const Eigen::VectorXcd u = lu.solve(load);
+    const Eigen::VectorXcd v = Cplx(0.0, 2.0 * M_PI * f) * u;
+    // the force is linear in (u, v): its real and imaginary parts from those of the state
+    Cplx total = 0.0;
+    for (Rail rail : seats) {
+      model.ballastForceOnFoundation(u.real(), v.real(), re, rail);
+      model.ballastForceOnFoundation(u.imag(), v.imag(), im, rail);
+      for (size_t i = 0; i < re.size(); ++i) total += Cplx(re[i], im[i]);
+    }
+    out.push_back(total / applied_n);
+  }
+  return out;
+}
+
+double insertionLossDb(std::complex<double> without, std::complex<double> with) {
+  return 20.0 * std::log10(std::abs(without) / std::abs(with));
+}
+
+std::vector<double> zeroCrossings(const std::vector<double>& f, const std::vector<double>& y) {
+  if (f.size() != y.size()) throw std::invalid_argument("zeroCrossings: size mismatch");
+  std::vector<double> out;
+  for (size_t i = 0; i + 1 < f.size(); ++i) {
+    if (y[i] == 0.0) {
+      out.push_back(f[i]);
+    } else if ((y[i] < 0.0) != (y[i + 1] < 0.0) && y[i + 1] != 0.0) {
+      out.push_back(f[i] + (f[i + 1] - f[i]) * y[i] / (y[i] - y[i + 1]));
+    }
+  }
+  if (!y.empty() && y.back() == 0.0) out.push_back(f.back());
+  return out;
+}
+
 double winklerBeamStaticDeflection(double EI, double k, double force_n) {
   const double b = std::pow(k / (4.0 * EI), 0.25);
   return force_n / (8.0 * EI * b * b * b);
@@ -72,6 +168,9 @@ double winklerBeamStaticDeflection(double EI, double k, double force_n) {
 
 double smearedStaticSupportStiffness(const TrackParams& p) {
   double flex = 1.0 / p.railpad_stiffness_n_m + 1.0 / p.ballast_stiffness_n_m;
+  for (const auto* layer : {&p.under_sleeper_pad, &p.under_ballast_mat}) {
+    if (*layer) flex += 1.0 / (*layer)->stiffnessNPerM();
+  }
   if (p.foundation == FoundationModel::Winkler) flex += 1.0 / p.winkler.stiffness_n_m;
   return 1.0 / flex / p.layout.spacing_m;
 }
@@ -105,17 +204,25 @@ std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, do
         << (g.allFinite() ? "" : " with non-finite entries") << ", the track has " << n << " sleepers";
       throw std::invalid_argument(s.str());
     }
-    const Cplx kb(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m);
-    // Ballast on the ground: f_b = k_b* (I + k_b* G)^-1 u_s.
+    // the layer that stands on the ground: the ballast, or an under-ballast mat
+    const Cplx kb = p.under_ballast_mat
+                        ? Cplx(p.under_ballast_mat->stiffnessNPerM(), w * p.under_ballast_mat->dampingNsPerM())
+                        : Cplx(p.ballast_stiffness_n_m, w * p.ballast_damping_n_s_m);
+    // Ballast (or mat) on the ground: f_b = k_b* (I + k_b* G)^-1 u_s, u_s the displacements of its top.
     const Eigen::MatrixXcd ballast =
         kb * (Eigen::MatrixXcd::Identity(n, n) + kb * g).partialPivLu().solve(Eigen::MatrixXcd::Identity(n, n));
     // Every entry of the sleeper block, zeros too, so that the pattern analysed once holds at every frequency.
     t.clear();
     t.reserve(static_cast<size_t>(n * (n + 1)));
+    // the top of the layer on the ground: the mat node, the pad node (the ballast's top) or the sleeper
+    const auto top = [&](Eigen::Index i) {
+      const int s = static_cast<int>(i);
+      return p.under_ballast_mat ? model.matDof(s) : p.under_sleeper_pad ? model.padDof(s) : model.sleeperDof(s);
+    };
     for (Eigen::Index i = 0; i < n; ++i) {
-      const Eigen::Index si = model.sleeperDof(static_cast<int>(i));
-      t.emplace_back(si, si, -kb);  // the rigid model's ballast to the fixed base
-      for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(si, model.sleeperDof(static_cast<int>(j)), ballast(i, j));
+      const Eigen::Index si = top(i);
+      t.emplace_back(si, si, -kb);  // the rigid model's ballast (or mat) to the fixed base
+      for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(si, top(j), ballast(i, j));
     }
     Eigen::SparseMatrix<Cplx> block(model.dofCount(), model.dofCount());
     block.setFromTriplets(t.begin(), t.end());

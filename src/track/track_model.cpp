@@ -81,9 +81,12 @@ void TrackModel::build() {
   for (long j = 0; j < n_nodes; ++j) node_x_[j] = sleeper_x_[0] + static_cast<double>(j) * element_length_;
   node_x_.back() = sleeper_x_.back();
 
-  // DOF numbering node by node (banded): w, theta of each rail [, sleeper heave, roll, base of each seat].
+  // DOF numbering node by node (banded): w, theta of each rail [, sleeper heave, roll, and under each seat
+  // its pad node, mat node and base where they exist].
   rail_dof_.assign(seats, std::vector<Eigen::Index>(n_nodes, -1));
   base_dof_.assign(seats, std::vector<Eigen::Index>(n_s, -1));
+  pad_dof_.assign(seats, std::vector<Eigen::Index>(n_s, -1));
+  mat_dof_.assign(seats, std::vector<Eigen::Index>(n_s, -1));
   sleeper_dof_.assign(n_s, -1);
   roll_dof_.assign(n_s, -1);
   Eigen::Index idx = 0;
@@ -97,6 +100,9 @@ void TrackModel::build() {
       sleeper_dof_[i] = idx++;
       if (rails_ == 2) roll_dof_[i] = idx++;
       for (size_t r = 0; r < seats; ++r) {
+        // the seat chain top to bottom: pad node, mat node, base (each only where it exists)
+        if (p.under_sleeper_pad) pad_dof_[r][i] = idx++;
+        if (p.under_ballast_mat) mat_dof_[r][i] = idx++;
         if (p.foundation != FoundationModel::Rigid) base_dof_[r][i] = idx++;
       }
     }
@@ -171,9 +177,26 @@ void TrackModel::build() {
       // railpad rail -> seat
       seatSpring(tk, w, p.railpad_stiffness_n_m);
       if (p.railpad_damping_n_s_m > 0.0) seatSpring(tc, w, p.railpad_damping_n_s_m);
-      // ballast seat -> base (or ground)
-      seatSpring(tk, b, p.ballast_stiffness_n_m);
-      if (p.ballast_damping_n_s_m > 0.0) seatSpring(tc, b, p.ballast_damping_n_s_m);
+      // ballast from its top (the seat, or the pad node under an under-sleeper pad) to its bottom
+      // (the base or ground, or the mat node over an under-ballast mat); the layers are springs and
+      // dampers in series through massless nodes
+      const Eigen::Index pad = pad_dof_[r][i], mat = mat_dof_[r][i];
+      const Eigen::Index ballast_bottom = p.under_ballast_mat ? mat : b;
+      if (p.under_sleeper_pad) {
+        const ResilientLayer& usp = *p.under_sleeper_pad;
+        seatSpring(tk, pad, usp.stiffnessNPerM());
+        if (usp.dampingNsPerM() > 0.0) seatSpring(tc, pad, usp.dampingNsPerM());
+        addPair(tk, pad, ballast_bottom, p.ballast_stiffness_n_m);
+        if (p.ballast_damping_n_s_m > 0.0) addPair(tc, pad, ballast_bottom, p.ballast_damping_n_s_m);
+      } else {
+        seatSpring(tk, ballast_bottom, p.ballast_stiffness_n_m);
+        if (p.ballast_damping_n_s_m > 0.0) seatSpring(tc, ballast_bottom, p.ballast_damping_n_s_m);
+      }
+      if (p.under_ballast_mat) {
+        const ResilientLayer& ubm = *p.under_ballast_mat;
+        addPair(tk, mat, b, ubm.stiffnessNPerM());
+        if (ubm.dampingNsPerM() > 0.0) addPair(tc, mat, b, ubm.dampingNsPerM());
+      }
       if (p.foundation == FoundationModel::Clm) {
         tm.emplace_back(b, b, p.clm.mass_kg);
         if (eta_s > 0.0) tc.emplace_back(b, b, eta_s * p.clm.mass_kg);
@@ -243,15 +266,26 @@ void TrackModel::ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen:
   const size_t n = sleeper_x_.size();
   out.resize(n);
   const double kb = params_.ballast_stiffness_n_m, db = params_.ballast_damping_n_s_m;
-  const std::vector<Eigen::Index>& base = base_dof_[seatIndex(rail)];
+  const size_t seat = seatIndex(rail);
+  const std::vector<Eigen::Index>& base = base_dof_[seat];
   const double y = railSeatY(rail);
+  if (params_.under_ballast_mat) {
+    // the foundation stands under the mat: the mat's force (equal to the ballast's, the mat node
+    // being massless, up to the time integration's round-off)
+    const double km = params_.under_ballast_mat->stiffnessNPerM(), dm = params_.under_ballast_mat->dampingNsPerM();
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Index m = mat_dof_[seat][i], b = base[i];
+      out[i] = km * (u[m] - (b >= 0 ? u[b] : 0.0)) + dm * (v[m] - (b >= 0 ? v[b] : 0.0));
+    }
+    return;
+  }
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Index s = sleeper_dof_[i], roll = roll_dof_[i], b = base[i];
-    // the seat moves by heave + y roll
-    const double seat_u = roll >= 0 ? u[s] + y * u[roll] : u[s];
-    const double seat_v = roll >= 0 ? v[s] + y * v[roll] : v[s];
-    const double du = seat_u - (b >= 0 ? u[b] : 0.0);
-    const double dv = seat_v - (b >= 0 ? v[b] : 0.0);
+    const Eigen::Index s = sleeper_dof_[i], roll = roll_dof_[i], b = base[i], pad = pad_dof_[seat][i];
+    // the ballast's top: the seat (moving by heave + y roll), or the node under an under-sleeper pad
+    const double top_u = pad >= 0 ? u[pad] : (roll >= 0 ? u[s] + y * u[roll] : u[s]);
+    const double top_v = pad >= 0 ? v[pad] : (roll >= 0 ? v[s] + y * v[roll] : v[s]);
+    const double du = top_u - (b >= 0 ? u[b] : 0.0);
+    const double dv = top_v - (b >= 0 ? v[b] : 0.0);
     out[i] = kb * du + db * dv;
   }
 }

@@ -169,10 +169,15 @@ void TrackNewmark::setConvectedStaticState(const std::vector<PointLoad>& loads, 
       a[m.railTheta(j, rails[r])] = V * V * d2[j];
     }
   }
-  // sleeper heave, the base under each rail seat and (full width) the sleeper roll
+  // sleeper heave, the base (and any resilient layer's node) under each rail seat and (full width)
+  // the sleeper roll
   const std::vector<double>& xs = m.sleeperPositions();
   std::vector<std::function<Eigen::Index(int)>> families{[&](int s) { return m.sleeperDof(s); }};
   for (int r = 0; r < m.railCount(); ++r) families.push_back([&, r](int s) { return m.baseDof(s, rails[r]); });
+  for (int r = 0; r < m.railCount(); ++r) {
+    families.push_back([&, r](int s) { return m.padDof(s, rails[r]); });
+    families.push_back([&, r](int s) { return m.matDof(s, rails[r]); });
+  }
   if (m.railCount() == 2) families.push_back([&](int s) { return m.sleeperRollDof(s); });
   for (const auto& dof : families) {
     vals.assign(xs.size(), 0.0);

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "railvib/track/track_model.hpp"
@@ -16,6 +17,39 @@ std::string foundationName(FoundationModel model) {
   }
   return "?";
 }
+
+namespace {
+
+// Plausible bedding moduli (N/mm^3). Under-sleeper pads: EN 16730 measures 0.05-0.5 N/mm^3 in use
+// ("very soft" to "stiff"); under-ballast mats: DIN 45673-5 mats span ~0.01-0.2 N/mm^3. The bounds
+// leave a factor of ~2-5 either side; beyond them the layer is no resilient layer (or no longer
+// carries the track).
+constexpr Range kUnderSleeperPadModulus{0.01, 2.0, false, false};
+constexpr Range kUnderBallastMatModulus{0.002, 1.0, false, false};
+
+std::optional<ResilientLayer> loadResilientLayer(const ConfigNode& track, const std::string& key,
+                                                 const Range& modulus_n_mm3, double max_area_m2,
+                                                 const std::string& max_area_reason) {
+  if (!track.has(key)) return std::nullopt;
+  const ConfigNode layer = track.section(key);
+  const bool enabled = layer.flag("enabled", true);
+  ResilientLayer l;
+  l.bedding_modulus_n_mm3 = layer.number("bedding_modulus_n_mm3", modulus_n_mm3);
+  l.bearing_area_m2 = layer.number("bearing_area_per_rail_seat_m2", Range{0.0, 20.0, true, false});
+  if (l.bearing_area_m2 > max_area_m2 * (1.0 + 1e-9)) {
+    std::ostringstream why;
+    why << "at most " << max_area_m2 << " m^2 per rail seat: " << max_area_reason;
+    layer.fail("bearing_area_per_rail_seat_m2", why.str());
+  }
+  // elastomers and bonded granulates: eta ~0.05-0.3; above 1 no solid layer is meant
+  l.loss_factor = layer.number("loss_factor", Range{0.0, 1.0, false, false});
+  l.reference_frequency_hz = layer.number("reference_frequency_hz", Range{1.0, 1000.0, false, false});
+  // a disabled layer's values are validated all the same: switching it on cannot meet a bad one
+  if (!enabled) return std::nullopt;
+  return l;
+}
+
+}  // namespace
 
 TrackParams loadTrackParams(const ConfigNode& root) {
   const ConfigNode track = root.section("track");
@@ -47,6 +81,14 @@ TrackParams loadTrackParams(const ConfigNode& root) {
   const ConfigNode ballast = track.section("ballast");
   p.ballast_stiffness_n_m = ballast.number("stiffness_n_m", Range::open(0.0, 1.0e12));
   p.ballast_damping_n_s_m = ballast.number("damping_n_s_m", Range{0.0, 1.0e9, false, true});
+
+  // Resilient layers (optional): absent or `enabled: false` = none (the paper's track; the values
+  // of a disabled layer are still validated, so that switching it on cannot meet a bad one).
+  // the pad lies under the sleeper: it bears at most on the sleeper's bottom per rail seat
+  const double sleeper_seat_m2 = 0.5 * p.layout.length_m * p.layout.width_m;
+  p.under_sleeper_pad = loadResilientLayer(track, "under_sleeper_pad", kUnderSleeperPadModulus, sleeper_seat_m2,
+                                           "half the sleeper's bottom (track.sleeper.length_m x width_m / 2)");
+  p.under_ballast_mat = loadResilientLayer(track, "under_ballast_mat", kUnderBallastMatModulus, 20.0, "");
 
   const ConfigNode foundation = track.section("foundation");
   const std::string model = foundation.choice("model", {"clm", "winkler", "rigid"});

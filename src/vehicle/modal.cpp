@@ -370,6 +370,8 @@ std::vector<Mode> vehicleModesFlexible(const VehicleModel& model, const track::T
       pair(tm.sleeperDof(i), tm.sleeperDof(i), 1.0);
       pair(tm.sleeperRollDof(i), tm.sleeperRollDof(i), -1.0);
       pair(tm.baseDof(i, track::Rail::Left), tm.baseDof(i, track::Rail::Right), 1.0);
+      pair(tm.padDof(i, track::Rail::Left), tm.padDof(i, track::Rail::Right), 1.0);
+      pair(tm.matDof(i, track::Rail::Left), tm.matDof(i, track::Rail::Right), 1.0);
     }
     for (Eigen::Index i = 0; i < n; ++i) {
       if (mirror[i] < 0) throw std::logic_error("flexible modal analysis: a track DOF without mirror image");

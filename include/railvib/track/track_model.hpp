@@ -26,6 +26,15 @@
 // soil receives both rails: 2 f_i. The track's own dead weight is not
 // included (linear model, loads from the vehicle only).
 //
+// Resilient layers (optional, track.under_sleeper_pad / track.under_ballast_mat): an under-sleeper
+// pad (USP) between the sleeper and the ballast, an under-ballast mat (UBM) between the ballast and
+// the foundation (CLM mass, Winkler node or fixed ground). Each is a spring k = C_bed A (bedding
+// modulus over its bearing area per rail seat) with a viscous damper d = eta k / (2 pi f_ref) that
+// matches the layer's hysteretic loss factor eta at the reference frequency f_ref, in series with
+// the ballast through a MASSLESS node (as the Winkler junction). Seat chain, top to bottom:
+//   rail -(railpad)- seat -(USP)- pad node -(ballast)- mat node -(UBM)- base.
+// With a UBM the foundation (and the soil) receives the mat's force (ballastForceOnFoundation).
+//
 // Full width (TrackWidth::Full): both rails, each sleeper a rigid body with heave and roll (the seat
 // at lateral y moves down by heave + y roll), railpad, ballast and foundation chain under each rail
 // seat; the half track is its symmetric special case (docs/track.md, "Full width").
@@ -41,7 +50,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <cmath>
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,6 +95,27 @@ struct WinklerParams {
   double damping_n_s_m = 150.0e3;
 };
 
+/// A resilient layer of the support (under-sleeper pad, under-ballast mat) as manufacturers quote
+/// it: a bedding modulus (EN 16730 for USPs, DIN 45673-5 for UBMs) over a bearing area, and a
+/// hysteretic loss factor. The time-domain (Newmark) model needs a viscous damper: d = eta k / w_ref
+/// gives the layer's loss factor eta at f_ref exactly (eta f / f_ref at f; the same damper is used in
+/// the frequency domain, so both domains describe one model).
+struct ResilientLayer {
+  /// Bedding modulus C_bed (N/mm^3): pressure per unit compression of the layer.
+  double bedding_modulus_n_mm3 = 0.1;
+  /// Bearing area per rail seat (m^2) over which the layer carries the load.
+  double bearing_area_m2 = 0.325;
+  /// Hysteretic loss factor eta (-) of the layer material.
+  double loss_factor = 0.1;
+  /// Frequency (Hz) at which the viscous damper matches the loss factor.
+  double reference_frequency_hz = 50.0;
+
+  /// Spring per rail seat (N/m): C_bed (1e9 N/m^3 per N/mm^3) x area.
+  double stiffnessNPerM() const { return bedding_modulus_n_mm3 * 1.0e9 * bearing_area_m2; }
+  /// Equivalent viscous damper per rail seat (N s/m): eta k / (2 pi f_ref).
+  double dampingNsPerM() const { return loss_factor * stiffnessNPerM() / (2.0 * M_PI * reference_frequency_hz); }
+};
+
 struct EndParams {
   /// Length of the damping layer at each end (0 = no layer).
   double absorbing_length_m = 12.0;
@@ -110,6 +142,9 @@ struct TrackParams {
   double railpad_damping_n_s_m = 30.0e3;
   double ballast_stiffness_n_m = 32.0e6;
   double ballast_damping_n_s_m = 52.0e3;
+  /// Resilient layers (per rail seat; absent: none, the paper's track).
+  std::optional<ResilientLayer> under_sleeper_pad;
+  std::optional<ResilientLayer> under_ballast_mat;
   // foundation (per rail seat: a full-width track has one chain under each rail)
   FoundationModel foundation = FoundationModel::Clm;
   ClmParams clm;
@@ -204,6 +239,11 @@ class TrackModel {
   Eigen::Index sleeperDof(int sleeper) const { return sleeper_dof_[sleeper]; }
   Eigen::Index sleeperRollDof(int sleeper) const { return roll_dof_[sleeper]; }
   Eigen::Index baseDof(int sleeper, Rail rail = Rail::Left) const { return base_dof_[seatIndex(rail)][sleeper]; }
+  /// The massless node between an under-sleeper pad and the ballast (the ballast's top), and between
+  /// the ballast and an under-ballast mat (the ballast's bottom), under each rail seat; -1 without
+  /// the layer.
+  Eigen::Index padDof(int sleeper, Rail rail = Rail::Left) const { return pad_dof_[seatIndex(rail)][sleeper]; }
+  Eigen::Index matDof(int sleeper, Rail rail = Rail::Left) const { return mat_dof_[seatIndex(rail)][sleeper]; }
   /// Rail node index of sleeper i.
   int sleeperNode(int sleeper) const { return sleeper * params_.elements_per_bay; }
 
@@ -213,8 +253,8 @@ class TrackModel {
   /// Consistent load vector of point loads (size dofCount()).
   Eigen::VectorXd loadVector(const std::vector<PointLoad>& loads) const;
 
-  /// Ballast force on the foundation per sleeper (N, positive downward) under one rail seat (the
-  /// half track's only seat by default).
+  /// Force on the foundation per sleeper (N, positive downward) under one rail seat (the half
+  /// track's only seat by default): the ballast's, or with an under-ballast mat the mat's.
   void ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::vector<double>& out,
                                 Rail rail = Rail::Left) const;
   std::vector<double> ballastForceOnFoundation(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
@@ -256,6 +296,7 @@ class TrackModel {
   std::vector<double> sleeper_x_;
   std::vector<Eigen::Index> sleeper_dof_, roll_dof_;
   std::vector<std::vector<Eigen::Index>> rail_dof_, base_dof_;  // [seat][node or sleeper]
+  std::vector<std::vector<Eigen::Index>> pad_dof_, mat_dof_;    // [seat][sleeper], -1 without the layer
   double element_length_ = 0.0;
   Eigen::SparseMatrix<double> M_, C_, K_;
 };
