@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "passage_energy.hpp"
 #include "railvib/common/config.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/track/track_newmark.hpp"
@@ -115,43 +116,8 @@ TEST(ResilientLayerPassage, UndampedCoupledSystemWorkEnergyBalanceWithBothLayers
   ASSERT_EQ(track.model().damping().norm(), 0.0);
   ASSERT_GE(track.model().padDof(0), 0);
   ASSERT_GE(track.model().matDof(0), 0);
-  const double C = m.params().hertz_constant_n_m1_5;
-  const auto energy = [&]() {
-    const Eigen::VectorXd& q = run.displacement();
-    const Eigen::VectorXd& v = run.velocity();
-    double e = 0.5 * v.dot(m.mass() * v) + 0.5 * q.dot(m.stiffness() * q) - m.gravityLoad().dot(q);
-    for (int i = 0; i < m.wheelCount(); ++i) {
-      const double delta =
-          q[m.wheels()[i].contact_dof] + run.unevennessUnderWheels()[i] - run.railDisplacementUnderWheels()[i];
-      if (delta > 0.0) e += 0.4 * C * delta * delta * std::sqrt(delta);
-    }
-    return e + track.totalEnergy();
-  };
-  const auto railUnder = [&](const std::vector<double>& x, int i, const Eigen::VectorXd& u) {
-    return track.model().railPoint(x[i], m.wheels()[i].rail).displacement(u);
-  };
-  PassageBlock b;
-  run.advance(1, b);
-  const double e0 = energy();
-  std::vector<double> F = run.contactForces(), z = run.unevennessUnderWheels(), x = run.wheelPositions();
-  Eigen::VectorXd u = track.displacement();
-  double work = 0.0, worst = 0.0, exchanged = 0.0;
-  while (!run.finished()) {
-    run.advance(1, b);
-    const Eigen::VectorXd& u1 = track.displacement();
-    const std::vector<double>& x1 = run.wheelPositions();
-    for (int i = 0; i < m.wheelCount(); ++i) {
-      const double convected =
-          0.5 * (railUnder(x1, i, u) + railUnder(x1, i, u1) - railUnder(x, i, u) - railUnder(x, i, u1));
-      work += 0.5 * (F[i] + run.contactForces()[i]) * (run.unevennessUnderWheels()[i] - z[i] - convected);
-    }
-    F = run.contactForces();
-    z = run.unevennessUnderWheels();
-    x = x1;
-    u = u1;
-    worst = std::max(worst, std::abs(energy() - e0 - work));
-    exchanged = std::max(exchanged, std::abs(work));
-  }
+  const passage_test::WorkEnergyBalance balance = passage_test::coupledWorkEnergyBalance(run, m);
+  const double exchanged = balance.exchanged_j, worst = balance.worst_j;
   std::printf("[ figures  ] undamped coupled CLM with USP + UBM: work %.4g J, worst |E - E0 - W| %.3g J (%.3g)\n",
               exchanged, worst, worst / exchanged);
   EXPECT_GT(exchanged, 1.0);
