@@ -8,6 +8,7 @@
 // the same ratios within 0.02. One thread: the EPS fill's stable step makes it the longest run (~5 s).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "railvib/soil/screening.hpp"
@@ -51,4 +52,29 @@ TEST(SoilScreening, OpenTrenchScreensAsTheFieldTestsShowAndASoftFillLess) {
       EXPECT_LT(soft.amplitude_ratio[q], soft.amplitude_ratio[q - 1]) << q;
     }
   }
+}
+
+// The same computation on a box too small to screen anything physical (0.5 m elements, 25-35 Hz, 60 ms),
+// for the sanitizer build (test/sanitizer/long_tests.txt): a ratio per frequency and barrier, finite and
+// positive, the depths normalised by the Rayleigh wavelength.
+TEST(SoilScreening, ShortRunGivesARatioPerFrequencyAndBarrier) {
+  ScreeningSpec spec = defaultScreeningSpec();
+  spec.element_m = 0.5;
+  spec.threads = 1;
+  spec.frequencies_hz = {25.0, 30.0, 35.0};
+  spec.duration_s = 0.06;
+  spec.pml_m = 1.0;
+  spec.barrier_width_m = 0.5;
+  spec.barriers = {{"open", true, {}, 1.5}, {"soft", false, {8.0e6, 20.0, 0.1}, 1.5}};
+  const ScreeningResult r = runScreening(spec);
+  ASSERT_EQ(r.curves.size(), 2u);
+  for (const ScreeningCurve& c : r.curves) {
+    ASSERT_EQ(c.amplitude_ratio.size(), 3u);
+    for (size_t q = 0; q < 3; ++q) {
+      EXPECT_TRUE(std::isfinite(c.amplitude_ratio[q]) && c.amplitude_ratio[q] > 0.0) << c.name << " " << q;
+      EXPECT_NEAR(c.normalised_depth[q], 1.5 * spec.frequencies_hz[q] / r.rayleigh_speed_m_s, 1e-12);
+    }
+  }
+  EXPECT_GT(r.curves[1].dt_s, 0.0);
+  EXPECT_LT(r.curves[1].dt_s, r.curves[0].dt_s);  // the EPS fill's P-wave speed lowers the stable step
 }
