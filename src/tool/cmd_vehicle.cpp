@@ -14,6 +14,7 @@
 #include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/modal.hpp"
 #include "railvib/vehicle/passage.hpp"
+#include "railvib/vehicle/resilient_wheel.hpp"
 #include "tool_common.hpp"
 
 namespace railvib::tool {
@@ -28,6 +29,19 @@ void addVehicleOption(ArgParser& p) {
 }
 void vehicleOverride(const ArgParser& p, std::vector<std::string>& extra) {
   if (p.has("vehicle") && !p.get("vehicle").empty()) extra.push_back("vehicle.name=" + p.get("vehicle"));
+}
+
+/// The resilient-wheels measure applied to the vehicle (vehicle_params.hpp), for the JSON; a vehicle
+/// without it prints nothing (its output as it was).
+void addResilientWheels(const VehicleParams& v, json& out) {
+  if (!v.resilient_wheels) return;
+  const ResilientWheelParams& r = *v.resilient_wheels;
+  out["resilient_wheels"] = {{"wheels", r.wheels == ResilientWheelSet::Rigid       ? "rigid"
+                                        : r.wheels == ResilientWheelSet::Resilient ? "resilient"
+                                                                                   : "all"},
+                             {"tread_mass_kg", r.tread_mass_kg},
+                             {"stiffness_n_m", r.stiffness_n_m},
+                             {"damping_n_s_m", r.damping_n_s_m}};
 }
 
 std::string trackChoice(const ArgParser& p) {
@@ -87,6 +101,7 @@ int vehicleModes(const std::vector<std::string>& args) {
               {"wall_time_s", wall},
               {"modes", modesJson(modes, track == "flexible", model.fullWidth())}};
   if (model.fullWidth()) out["width"] = "full";  // the half vehicle's output as it was
+  addResilientWheels(model.params(), out);
   if (track == "rigid") {
     out["linearised_hertz_stiffness_n_m"] = linearisedHertzStiffness(model);
   }
@@ -110,8 +125,17 @@ int wheelImpedance(const std::vector<std::string>& args) {
   p.option("f-min", "lowest frequency (Hz)", "1");
   p.option("f-max", "highest frequency (Hz)", "200");
   p.option("points", "log-spaced frequencies", "300");
+  p.option("closed-form",
+           "a resilient wheel (its tread on a ring under a hub on one element), rigid track, half width: compare "
+           "with the chain's closed form, the body above the hub blocked | free-mass (docs/vehicle.md, "
+           "\"Resilient wheels\"; CSV gains abs_z_closed_form_n_s_m and rel_dev)",
+           "");
   if (!p.parse(args)) return 0;
   const std::string track = trackChoice(p);
+  const std::string closed_form = p.has("closed-form") ? p.get("closed-form") : "";
+  if (!closed_form.empty() && closed_form != "blocked" && closed_form != "free-mass")
+    throw ArgError("--closed-form must be blocked or free-mass, got '" + closed_form + "'");
+  if (!closed_form.empty() && track != "rigid") throw ArgError("--closed-form compares on the rigid track");
   std::vector<std::string> extra;
   vehicleOverride(p, extra);
   const Config cfg = loadConfig(p, extra);
@@ -143,10 +167,68 @@ int wheelImpedance(const std::vector<std::string>& args) {
   for (size_t k = 0; k < Z.size(); ++k) {
     if (std::abs(Z[k]) < std::abs(Z[imin])) imin = k;
   }
+  // The resilient wheel's closed form (resilient_wheel.hpp): Z_c per frequency and |Z - Z_c| / |Z_c|.
+  std::vector<std::complex<double>> Zc;
+  json closed;
+  if (!closed_form.empty()) {
+    const auto chain = resilientWheelChain(model, wheel);
+    if (!chain) {
+      throw ArgError("--closed-form: wheel " + std::to_string(axle) +
+                     " is no resilient wheel of the half vehicle (its contact body is not a tread on one ring under "
+                     "a hub held by one element; resilient_wheels makes rigid wheels resilient)");
+    }
+    const ChainTop top = closed_form == "blocked" ? ChainTop::Blocked : ChainTop::FreeMass;
+    double max_dev = 0.0, f_within = f.front();
+    for (size_t k = 0; k < f.size(); ++k) {
+      Zc.push_back(resilientWheelImpedance(*chain, f[k], top));
+      const double dev = std::abs(Z[k] - Zc[k]) / std::abs(Zc[k]);
+      max_dev = std::max(max_dev, dev);
+      if (dev > 0.01) f_within = k + 1 < f.size() ? f[k + 1] : std::nan("");
+    }
+    const std::vector<double> fc = resilientWheelFrequencies(*chain, top);
+    // the model's tread mode: the rigid-track mode of this tread nearest the closed form's ring resonance
+    double f_model = std::nan(""), zeta_model = std::nan("");
+    for (const Mode& m : vehicleModesRigid(model)) {
+      if (m.body != chain->tread) continue;
+      if (!std::isfinite(f_model) || std::abs(m.frequency_hz - fc.back()) < std::abs(f_model - fc.back())) {
+        f_model = m.frequency_hz;
+        zeta_model = m.damping_ratio;
+      }
+    }
+    closed = {{"top", closed_form},
+              {"tread", chain->tread},
+              {"hub", chain->hub},
+              {"upper", chain->upper},
+              {"tread_mass_kg", chain->tread_mass_kg},
+              {"hub_mass_kg", chain->hub_mass_kg},
+              {"upper_mass_kg", chain->upper_mass_kg},
+              {"ring_stiffness_n_m", chain->ring_stiffness_n_m},
+              {"ring_damping_n_s_m", chain->ring_damping_n_s_m},
+              {"primary_stiffness_n_m", chain->primary_stiffness_n_m},
+              {"primary_damping_n_s_m", chain->primary_damping_n_s_m},
+              {"hertz_stiffness_n_m", chain->hertz_stiffness_n_m},
+              {"max_rel_dev", max_dev},
+              {"within_1_percent_from_hz", f_within},
+              {"natural_frequencies_hz", fc},
+              {"ring_resonance_hz", fc.back()},
+              {"model_tread_mode_hz", f_model},
+              {"model_tread_mode_damping_ratio", zeta_model},
+              {"ring_resonance_rel_dev", (f_model - fc.back()) / fc.back()}};
+  }
   if (p.has("csv") && !p.get("csv").empty()) {
-    io::CsvWriter csv(p.get("csv"), {"f_hz", "abs_z_n_s_m", "phase_deg", "re_z_n_s_m", "im_z_n_s_m"});
+    std::vector<std::string> columns{"f_hz", "abs_z_n_s_m", "phase_deg", "re_z_n_s_m", "im_z_n_s_m"};
+    if (!Zc.empty()) {
+      columns.push_back("abs_z_closed_form_n_s_m");
+      columns.push_back("rel_dev");
+    }
+    io::CsvWriter csv(p.get("csv"), columns);
     for (size_t k = 0; k < Z.size(); ++k) {
-      csv.row({f[k], std::abs(Z[k]), std::arg(Z[k]) * 180.0 / M_PI, Z[k].real(), Z[k].imag()});
+      std::vector<double> row{f[k], std::abs(Z[k]), std::arg(Z[k]) * 180.0 / M_PI, Z[k].real(), Z[k].imag()};
+      if (!Zc.empty()) {
+        row.push_back(std::abs(Zc[k]));
+        row.push_back(std::abs(Z[k] - Zc[k]) / std::abs(Zc[k]));
+      }
+      csv.row(row);
     }
     csv.commit();
   }
@@ -164,6 +246,8 @@ int wheelImpedance(const std::vector<std::string>& args) {
     out["rail"] = rail_name;
     out["load"] = load_name;
   }
+  addResilientWheels(model.params(), out);
+  if (!closed.is_null()) out["closed_form"] = closed;
   printJson(out);
   return 0;
 }
@@ -403,6 +487,7 @@ int passage(const std::vector<std::string>& args) {
                 {"wall_time_s", wall},
                 {"out", dir}});
   if (setup.model.fullWidth()) summary["width"] = "full";  // the half width's JSON is unchanged
+  addResilientWheels(setup.model.params(), summary);
   printJson(summary);
   return 0;
 }

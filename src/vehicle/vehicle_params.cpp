@@ -243,6 +243,172 @@ void readWheels(const ConfigNode& v, VehicleParams& p) {
   }
 }
 
+/// Resilient wheels (issue 33), `resilient_wheels` of the vehicle's entry: absent or `enabled: false`
+/// leaves the file's vehicle as it is (its values are validated all the same, so switching it on
+/// cannot meet a bad one). A rigid wheel body carrying a contact becomes the hub (kind wheel_hub, its
+/// mass less its treads') and a tread per rail (kind tread, `<wheel>_tread`, right after the hub in
+/// the body order) on a resilient ring (stage kResilientWheelStage, attached at the tread's point,
+/// listed after the hub's own element); the contact moves to the tread. This is the T2000 motor
+/// wheel's structure (the paper's appendix: tread m_t on the ring k_t, d_t under the hub), so the
+/// same model, modes and passage serve it. A centre-line wheelset gets two treads, one per rail at
+/// +-rail_offset_m, its roll inertia less theirs (2 m_t a^2). Wheels that already have a ring (a
+/// tread hung from one element) get the section's ring stiffness and damping with `wheels:
+/// resilient | all`; their tread keeps the file's mass.
+void applyResilientWheels(const ConfigNode& v, VehicleParams& p) {
+  if (!v.has("resilient_wheels")) return;
+  const ConfigNode r = v.section("resilient_wheels");
+  const bool enabled = r.flag("enabled", true);
+  ResilientWheelParams rw;
+  const std::string set = r.choice("wheels", {"rigid", "resilient", "all"}, "rigid");
+  rw.wheels = set == "rigid"       ? ResilientWheelSet::Rigid
+              : set == "resilient" ? ResilientWheelSet::Resilient
+                                   : ResilientWheelSet::All;
+  rw.stiffness_n_m = r.number("stiffness_n_m", kResilientRingStiffnessNM);
+  rw.damping_n_s_m = r.number("damping_n_s_m", kResilientRingDampingNSM);
+  const bool make_resilient = rw.wheels != ResilientWheelSet::Resilient;
+  const bool respring = rw.wheels != ResilientWheelSet::Rigid;
+  if (make_resilient) {
+    rw.tread_mass_kg = r.number("tread_mass_kg", Range::positive());
+  } else if (r.has("tread_mass_kg")) {
+    r.fail("tread_mass_kg",
+           "wheels: resilient changes the rings already fitted, whose treads are bodies of the file (their mass_kg "
+           "is set there); a tread mass is for the rigid wheels made resilient (wheels: rigid | all)");
+  }
+  // Which wheels it acts on, and whether their masses allow it (checked enabled or not).
+  std::vector<size_t> rigid, ringed;
+  std::vector<int> ring_of(p.wheels.size(), -1);
+  for (size_t w = 0; w < p.wheels.size(); ++w) {
+    const int b = p.wheels[w].body;
+    const BodySpec& body = p.bodies[static_cast<size_t>(b)];
+    if (body.kind == BodyKind::Wheel) {
+      rigid.push_back(w);
+      if (!make_resilient) continue;
+      // a wheelset on the centre line gets a tread on each rail
+      const double treads = body.onCentreLine() ? 2.0 : 1.0;
+      if (!(treads * rw.tread_mass_kg < body.mass_kg)) {
+        r.fail("tread_mass_kg",
+               fmt(rw.tread_mass_kg) + " kg must lie below the mass of the wheel it is cut from: " + body.name +
+                   " (wheel " + p.wheels[w].name + ") weighs " + fmt(body.mass_kg) + " kg" +
+                   (treads > 1.0 ? ", a wheelset with a tread on each rail, so (0, " + fmt(0.5 * body.mass_kg) + ") kg"
+                                 : ", so (0, " + fmt(body.mass_kg) + ") kg"));
+      }
+      const double tread_roll = treads * rw.tread_mass_kg * p.rail_offset_m * p.rail_offset_m;
+      if (body.roll_inertia_kg_m2 > 0.0 && !(tread_roll < body.roll_inertia_kg_m2)) {
+        r.fail("tread_mass_kg", "the treads of " + body.name + " at +-" + fmt(p.rail_offset_m) + " m would hold " +
+                                    fmt(tread_roll) + " kg m^2 of its roll inertia, " + fmt(body.roll_inertia_kg_m2) +
+                                    " kg m^2 (roll_inertia_kg_m2): too heavy");
+      }
+    } else {
+      // a tread carrying the contact: its ring is the one element that holds it
+      int count = 0;
+      for (size_t e = 0; e < p.suspensions.size(); ++e) {
+        const SuspensionSpec& el = p.suspensions[e];
+        if (el.lower_body == b || el.upper_body == b) {
+          ring_of[w] = static_cast<int>(e);
+          ++count;
+        }
+      }
+      if (count != 1) {
+        r.fail("wheels", "tread " + body.name + " hangs on " + std::to_string(count) +
+                             " elements: the ring of a resilient wheel is the one element that holds its tread");
+      }
+      ringed.push_back(w);
+    }
+  }
+  if (make_resilient && !respring && rigid.empty()) {
+    r.fail("wheels",
+           "'rigid': this vehicle has no rigid wheel (every contact is on a tread); 'resilient' changes "
+           "the rings it has");
+  }
+  if (respring && !make_resilient && ringed.empty()) {
+    r.fail("wheels",
+           "'resilient': this vehicle has no resilient wheel whose ring could change; 'rigid' or 'all' "
+           "makes its rigid wheels resilient");
+  }
+  if (!enabled) return;
+  p.resilient_wheels = rw;
+  if (respring) {
+    for (size_t w : ringed) {
+      SuspensionSpec& ring = p.suspensions[static_cast<size_t>(ring_of[w])];
+      ring.stiffness_n_m = rw.stiffness_n_m;
+      ring.damping_n_s_m = rw.damping_n_s_m;
+    }
+  }
+  if (!make_resilient || rigid.empty()) return;
+  // New body order: each tread right after its hub; every index is remapped.
+  std::vector<bool> converts(p.bodies.size(), false);
+  for (size_t w : rigid) converts[static_cast<size_t>(p.wheels[w].body)] = true;
+  std::vector<BodySpec> bodies;
+  std::vector<int> new_index(p.bodies.size(), -1), tread_of(p.bodies.size(), -1);
+  for (size_t b = 0; b < p.bodies.size(); ++b) {
+    BodySpec hub = p.bodies[b];
+    new_index[b] = static_cast<int>(bodies.size());
+    if (!converts[b]) {
+      bodies.push_back(hub);
+      continue;
+    }
+    BodySpec tread;
+    tread.name = hub.name + "_tread";
+    if (p.bodyIndex(tread.name) >= 0) {
+      r.fail("wheels", "the tread of " + hub.name + " would be called " + tread.name +
+                           ", the name of a body of the file already");
+    }
+    tread.kind = BodyKind::Tread;
+    tread.x_m = hub.x_m;
+    tread.y_m = hub.onCentreLine() ? p.rail_offset_m : hub.y_m;
+    tread.mass_kg = rw.tread_mass_kg;
+    tread.front_m = tread.rear_m = tread.x_m;
+    const double treads = hub.onCentreLine() ? 2.0 : 1.0;
+    hub.kind = BodyKind::WheelHub;
+    hub.mass_kg -= treads * rw.tread_mass_kg;
+    if (hub.roll_inertia_kg_m2 > 0.0)
+      hub.roll_inertia_kg_m2 -= treads * rw.tread_mass_kg * p.rail_offset_m * p.rail_offset_m;
+    bodies.push_back(hub);
+    tread_of[b] = static_cast<int>(bodies.size());
+    bodies.push_back(tread);
+  }
+  std::vector<SuspensionSpec> elements;
+  for (size_t e = 0; e < p.suspensions.size(); ++e) {
+    SuspensionSpec el = p.suspensions[e];
+    const int old_lower = el.lower_body;
+    el.upper_body = new_index[static_cast<size_t>(el.upper_body)];
+    el.lower_body = new_index[static_cast<size_t>(el.lower_body)];
+    elements.push_back(el);
+    // the ring after the last element that holds the hub from above
+    const bool last_above = std::none_of(p.suspensions.begin() + static_cast<long>(e) + 1, p.suspensions.end(),
+                                         [&](const SuspensionSpec& o) { return o.lower_body == old_lower; });
+    if (tread_of[static_cast<size_t>(old_lower)] >= 0 && last_above) {
+      const BodySpec& tread = bodies[static_cast<size_t>(tread_of[static_cast<size_t>(old_lower)])];
+      SuspensionSpec ring;
+      ring.stage = kResilientWheelStage;
+      ring.upper_body = el.lower_body;
+      ring.lower_body = tread_of[static_cast<size_t>(old_lower)];
+      ring.x_m = tread.x_m;
+      ring.y_m = tread.y_m;
+      ring.stiffness_n_m = rw.stiffness_n_m;
+      ring.damping_n_s_m = rw.damping_n_s_m;
+      elements.push_back(ring);
+    }
+  }
+  for (size_t b = 0; b < p.bodies.size(); ++b) {
+    if (converts[b] && std::none_of(p.suspensions.begin(), p.suspensions.end(),
+                                    [&](const SuspensionSpec& o) { return o.lower_body == static_cast<int>(b); })) {
+      r.fail("wheels", "wheel body " + p.bodies[b].name +
+                           " hangs from no element: a resilient wheel's hub rests on a suspension");
+    }
+  }
+  for (JointSpec& j : p.joints) {
+    j.body_a = new_index[static_cast<size_t>(j.body_a)];
+    j.body_b = new_index[static_cast<size_t>(j.body_b)];
+  }
+  for (WheelSpec& w : p.wheels) {
+    const auto b = static_cast<size_t>(w.body);
+    w.body = converts[b] ? tread_of[b] : new_index[b];
+  }
+  p.bodies = std::move(bodies);
+  p.suspensions = std::move(elements);
+}
+
 /// Every body must be held (through elements and joints) by a wheel, and every wheel must lie
 /// under the vehicle's carbodies. (A wheel within its bogie follows from its elements: each is
 /// attached to both its bodies, readSuspensions.)
@@ -314,6 +480,7 @@ VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name)
   readSuspensions(v, p);
   readJoints(v, p);
   readWheels(v, p);
+  applyResilientWheels(v, p);
   checkStructure(v, p);
   try {
     const VehicleModel model(p);

@@ -61,6 +61,17 @@ class Cases:
         out = subprocess.run([self.tool, "config-check", "--set", trench % "6.1, 6.9"], capture_output=True, text=True)
         check(out.returncode != 0 and "soil.inclusions[0].y_m" in out.stderr and "through the house" in out.stderr,
               out.stderr)
+        # The catalogue's resilient wheels pass; a tread heavier than the 160 kg trailer wheel is refused with its key.
+        rw = ["--set", "vehicles.t2000.resilient_wheels.enabled=true", "--set", "vehicles.t2000.resilient_wheels.wheels=rigid",
+              "--set", "vehicles.t2000.resilient_wheels.tread_mass_kg=80.0",
+              "--set", "vehicles.t2000.resilient_wheels.stiffness_n_m=145.0e6",
+              "--set", "vehicles.t2000.resilient_wheels.damping_n_s_m=3.0e3"]
+        s = self.run("config-check", *rw)
+        check(s["valid"], s)
+        out = subprocess.run([self.tool, "config-check"] + rw + ["--set", "vehicles.t2000.resilient_wheels.tread_mass_kg=170"],
+                             capture_output=True, text=True)
+        check(out.returncode != 0 and "resilient_wheels.tread_mass_kg" in out.stderr and "(0, 160) kg" in out.stderr,
+              out.stderr)
 
     # ------------------------------------------------------------------ track
     def receptance(self):
@@ -153,6 +164,17 @@ class Cases:
         full = self.run("wheel-impedance", "--config", CI, "--points", 20, "--set", "track.width=full",
                         "--rail", "right", "--load", "both")
         check(full["rail"] == "right" and abs(full["min_abs_z_n_s_m"] / s["min_abs_z_n_s_m"] - 1) < 1e-9, full)
+        # Resilient trailer wheels: wheel 1's impedance against the closed form of its chain with the bogie
+        # blocked (within 1 % above 250 Hz, the ring's resonance within 0.1 %: docs/vehicle.md "Resilient
+        # wheels"); a rigid wheel has no such chain and is refused.
+        rw = ["--set", "vehicles.t2000.resilient_wheels.enabled=true"]
+        c = self.run("wheel-impedance", "--config", CI, "--wheel", 1, "--f-min", 250, "--f-max", 2000, "--points", 50,
+                     "--closed-form", "blocked", *rw)["closed_form"]
+        check(c["tread"] == "axle1_trailer_wheel_tread" and c["max_rel_dev"] < 0.01 and
+              abs(c["ring_resonance_rel_dev"]) < 1e-3, c)
+        out = subprocess.run([self.tool, "wheel-impedance", "--config", CI, "--wheel", "1", "--closed-form", "blocked"],
+                             capture_output=True, text=True)
+        check(out.returncode != 0 and "no resilient wheel" in out.stderr, out.stderr)
 
     def passage(self):
         out = WORK / "passage"

@@ -22,6 +22,7 @@
 // centre-line body a roll DOF (docs/vehicle.md, "Full width").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,38 @@ struct WheelSpec {
   double radius_m = 0.34;
 };
 
+/// The wheels a resilient-wheels measure acts on (`vehicles.<name>.resilient_wheels.wheels`).
+enum class ResilientWheelSet {
+  Rigid,      ///< every rigid wheel carrying a contact becomes a hub and a tread on a resilient ring
+  Resilient,  ///< the rings of the wheels that already have one get the section's stiffness and damping
+  All,        ///< both
+};
+
+/// Resilient wheels, a source-side mitigation measure (issue 33; docs/vehicle.md, "Resilient wheels"),
+/// `vehicles.<name>.resilient_wheels`. A rigid wheel body of mass m carrying a contact becomes a hub
+/// (kind wheel_hub, m - n m_t, n treads: 1 for a wheel of one side, 2 for a centre-line wheelset) and
+/// a tread of mass m_t per rail (kind tread, named `<wheel>_tread`, at the rail's lateral position)
+/// hung from it by a resilient ring (stage `resilient_wheel`); the contact moves to the tread.
+struct ResilientWheelParams {
+  ResilientWheelSet wheels = ResilientWheelSet::Rigid;
+  /// Tread (tyre) of a wheel made resilient, per tread (kg); 0 with `wheels: resilient`.
+  double tread_mass_kg = 0.0;
+  /// Resilient ring, radial, per wheel (N/m and N s/m): the ring of every wheel the measure acts on.
+  double stiffness_n_m = 0.0;
+  double damping_n_s_m = 0.0;
+};
+
+/// Stage name of the rings the measure adds.
+inline constexpr const char* kResilientWheelStage = "resilient_wheel";
+/// Radial stiffness of a resilient ring (N/m): the paper's T2000 ring is 145 MN/m. Below 10 MN/m a
+/// 30-60 kN wheel load would deflect the ring by 3-6 mm, more than the rubber of a resilient wheel
+/// is built to take; above 5 GN/m the ring is five times stiffer than the Hertz contact (~1 GN/m,
+/// docs/vehicle.md section 2) and isolates nothing: no resilient wheel [assumed bounds].
+constexpr Range kResilientRingStiffnessNM{1.0e7, 5.0e9, false, false};
+/// Ring damping (N s/m): the paper's 3 kN s/m is a damping ratio of 0.014 for the 80 kg tread on
+/// 145 MN/m; 1e6 N s/m would be ~5 times critical for it, beyond any elastomer [assumed bound].
+constexpr Range kResilientRingDampingNSM{0.0, 1.0e6, false, false};
+
 struct VehicleParams {
   /// Key of the vehicle in `vehicles` and its description.
   std::string name = "t2000";
@@ -117,6 +150,8 @@ struct VehicleParams {
   /// Half width: share of a centre-line body or element carried by the modelled rail.
   double body_share_per_rail = 0.5;
   double gravity_m_s2 = 9.81;
+  /// The resilient-wheels measure applied to the file's vehicle (absent or disabled: none).
+  std::optional<ResilientWheelParams> resilient_wheels;
 
   bool fullWidth() const { return width == track::TrackWidth::Full; }
   /// Axle positions (wheels of the file); the full-width model has a wheel per rail on each.
@@ -213,7 +248,10 @@ constexpr double kWheelOnRailToleranceM = 1.0e-3;
 /// entry. Refuses, with key path, value and file: unknown bodies, negative masses, elements or wheels
 /// outside their bodies, wheels out of order or off their rail, lateral positions beyond
 /// kMaxSideOffsetM, bodies connected to no wheel, a full-width vehicle without the roll inertia of a
-/// centre-line body, a mechanism (a motion no spring resists: docs/vehicle.md). Throws ConfigError.
+/// centre-line body, a mechanism (a motion no spring resists: docs/vehicle.md). Applies the entry's
+/// optional `resilient_wheels` measure (ResilientWheelParams), refusing a tread mass not below the
+/// wheel's (a wheelset: half its), a ring stiffness outside kResilientRingStiffnessNM, a measure that
+/// changes nothing. Throws ConfigError.
 VehicleParams loadVehicleParams(const ConfigNode& root);
 /// The same for the library entry `vehicles.<name>`, whatever `vehicle.name` says.
 VehicleParams loadVehicleParams(const ConfigNode& root, const std::string& name);
