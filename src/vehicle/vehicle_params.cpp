@@ -274,7 +274,9 @@ void applyResilientWheels(const ConfigNode& v, VehicleParams& p) {
            "wheels: resilient changes the rings already fitted, whose treads are bodies of the file (their mass_kg "
            "is set there); a tread mass is for the rigid wheels made resilient (wheels: rigid | all)");
   }
-  // Which wheels it acts on, and whether their masses allow it (checked enabled or not).
+  // Which wheels it acts on and whether their masses allow it, checked enabled or not; what depends on
+  // where the wheels stand (a wheelset on the centre line gets two treads, its roll inertia) only when it
+  // is applied: a misspelt position key would change it before the unknown-key check could name the key.
   std::vector<size_t> rigid, ringed;
   std::vector<int> ring_of(p.wheels.size(), -1);
   for (size_t w = 0; w < p.wheels.size(); ++w) {
@@ -283,8 +285,8 @@ void applyResilientWheels(const ConfigNode& v, VehicleParams& p) {
     if (body.kind == BodyKind::Wheel) {
       rigid.push_back(w);
       if (!make_resilient) continue;
-      // a wheelset on the centre line gets a tread on each rail
-      const double treads = body.onCentreLine() ? 2.0 : 1.0;
+      // a wheelset on the centre line gets a tread on each rail (disabled: one tread, whatever the position)
+      const double treads = enabled && body.onCentreLine() ? 2.0 : 1.0;
       if (!(treads * rw.tread_mass_kg < body.mass_kg)) {
         r.fail("tread_mass_kg",
                fmt(rw.tread_mass_kg) + " kg must lie below the mass of the wheel it is cut from: " + body.name +
@@ -293,7 +295,7 @@ void applyResilientWheels(const ConfigNode& v, VehicleParams& p) {
                                  : ", so (0, " + fmt(body.mass_kg) + ") kg"));
       }
       const double tread_roll = treads * rw.tread_mass_kg * p.rail_offset_m * p.rail_offset_m;
-      if (body.roll_inertia_kg_m2 > 0.0 && !(tread_roll < body.roll_inertia_kg_m2)) {
+      if (enabled && body.roll_inertia_kg_m2 > 0.0 && !(tread_roll < body.roll_inertia_kg_m2)) {
         r.fail("tread_mass_kg", "the treads of " + body.name + " at +-" + fmt(p.rail_offset_m) + " m would hold " +
                                     fmt(tread_roll) + " kg m^2 of its roll inertia, " + fmt(body.roll_inertia_kg_m2) +
                                     " kg m^2 (roll_inertia_kg_m2): too heavy");

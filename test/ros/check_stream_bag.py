@@ -132,15 +132,19 @@ class StreamBagTest(unittest.TestCase):
 
     def check_live_clock(self):
         self.assertTrue(rospy.get_param("/use_sim_time", False), "/use_sim_time is not set for the live graph")
-        self.assertGreater(len(self.clock_s), 10, "too few /clock messages")
         self.assertTrue(all(b > a for a, b in zip(self.clock_s, self.clock_s[1:])), "/clock went backwards or stood")
         with rosbag.Bag(self.bag_path) as bag:
             samples, period = 0, None
             for _, m, _ in bag.read_messages(topics=["/sensor_samples"]):
                 samples += m.sample_count
                 period = m.sample_period_s
-            block_s = max(m.sample_count * m.sample_period_s
-                          for _, m, _ in bag.read_messages(topics=["/surface_velocities"]))
+            soil_blocks = [m for _, m, _ in bag.read_messages(topics=["/surface_velocities"])]
+            block_s = max(m.sample_count * m.sample_period_s for m in soil_blocks)
+        # The sensors publish /clock as each soil block brings them samples (a block the decimator keeps
+        # back brings none): as many times as the soil sent blocks, give or take, however the blocks fell
+        # in wall time; a clock that only ran at the end would publish once or twice.
+        self.assertGreaterEqual(len(self.clock_s), max(3, len(soil_blocks) // 2),
+                                f"too few /clock messages for {len(soil_blocks)} soil blocks")
         self.assertAlmostEqual(self.clock_s[-1], (samples - 1) * period, delta=1e-9,
                                msg="the last /clock is not the last sensor sample's time")
         self.assertGreater(len(self.delays_s), samples // 2, "too few live velocity messages seen")
