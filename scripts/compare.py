@@ -49,6 +49,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_yaml  # noqa: E402
 import report  # noqa: E402  (stream reading, spectra and metrics: one place)
 
 try:
@@ -225,7 +226,7 @@ def foundation_depth_m(config, overrides):
     out = subprocess.run(cmd, capture_output=True, text=True)
     if out.returncode != 0:
         die("the scenario was refused: " + out.stderr.strip())
-    return float(yaml.safe_load(out.stdout)["building"]["foundation"]["depth_m"])
+    return float(railvib_yaml.load(out.stdout)["building"]["foundation"]["depth_m"])
 
 
 def metrics(t, v, outdir, name):

@@ -25,6 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 
 import railvib_verdicts as verdicts  # noqa: E402
+import railvib_yaml  # noqa: E402
 
 BASELINE = "baseline"
 
@@ -37,7 +38,7 @@ def load_catalogue(path):
     """{name: {"description": str, "set": {dotted key: value}}} of a catalogue file; CatalogueError if malformed."""
     path = pathlib.Path(path)
     try:
-        data = yaml.safe_load(path.read_text())
+        data = railvib_yaml.load(path.read_text())
     except (OSError, yaml.YAMLError) as e:
         raise CatalogueError(f"{path}: {e}")
     if not isinstance(data, dict) or set(data) != {"measures"} or not isinstance(data["measures"], dict):

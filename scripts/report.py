@@ -28,7 +28,6 @@ import argparse
 import csv
 import json
 import pathlib
-import re
 import subprocess
 import sys
 
@@ -43,6 +42,7 @@ from matplotlib.transforms import blended_transform_factory  # noqa: E402
 
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_yaml  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 
@@ -199,20 +199,6 @@ def spectrum_axes(ax, f_max_hz, mesh_f_max_hz, component="z"):
 
 
 # ------------------------------------------------------------------ scenario record
-class _ScenarioLoader(yaml.SafeLoader):
-    """YAML as railvib's loader reads it: 1e-05 or 2.0e3 are numbers (YAML 1.2), not strings, and a
-    time such as recorded_utc stays the text it was written as."""
-
-
-_ScenarioLoader.yaml_implicit_resolvers = {
-    first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:timestamp"]
-    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
-_ScenarioLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$"),
-    list("-+0123456789."))
-
-
 def scenario_record(bag):
     """The scenario record (/railvib/scenario) as a dict, and why it is not there or not readable."""
     for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
@@ -220,7 +206,7 @@ def scenario_record(bag):
         if not isinstance(text, str):
             return None, f"{names.SCENARIO} is not a std_msgs/String"
         try:
-            record = yaml.load(text, Loader=_ScenarioLoader)
+            record = railvib_yaml.load(text)
         except yaml.YAMLError as e:
             return None, f"{names.SCENARIO} is not readable YAML ({str(e).splitlines()[0]})"
         if not isinstance(record, dict):

@@ -39,6 +39,7 @@ import yaml
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import railvib_names as names  # noqa: E402
+import railvib_yaml  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 
 CRASH_MARKERS = ("AddressSanitizer", "UndefinedBehaviorSanitizer", "runtime error:", "Segmentation fault",
@@ -85,7 +86,7 @@ def write(name, text, binary=False):
 def merged_ci():
     code, out = run([TOOL, "config-check", "--config", CI, "--dump"])
     assert code == 0, out
-    return yaml.safe_load(out)
+    return railvib_yaml.load(out)
 
 
 def config_cases():

@@ -54,6 +54,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import mitigation  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_yaml  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 
 try:
@@ -84,7 +85,7 @@ def parse_value(text):
         except ValueError:
             pass
     try:
-        return yaml.safe_load(text)
+        return railvib_yaml.load(text)
     except yaml.YAMLError:
         return text
 
@@ -366,7 +367,7 @@ def load_spec(options):
     spec = {}
     if options.file:
         try:
-            spec = yaml.safe_load(pathlib.Path(options.file).read_text()) or {}
+            spec = railvib_yaml.load(pathlib.Path(options.file).read_text()) or {}
         except (OSError, yaml.YAMLError) as e:
             die(f"{options.file}: {e}")
         if not isinstance(spec, dict):

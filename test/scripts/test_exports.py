@@ -253,7 +253,7 @@ CATALOGUE = '''measures:
   trench:
     description: an open trench
     set:
-      soil.inclusions: [{name: trench, kind: void, x_m: [-14.8, 14.8], y_m: [3.1, 3.9], depth_m: [0.0, 4.0]}]
+      soil.inclusions: [{name: trench, kind: void, x_m: [-14.8, 14.8], y_m: [3.1, 3.9], depth_m: [0.0, 4.0e0]}]
   bad_key:
     description: a key no loader knows
     set: {track.railpad.stiffnes_n_m: 3.0e7}
@@ -317,7 +317,8 @@ class Study(unittest.TestCase):
         r = self.study(out, "--catalogue", catalogue, "--measure", "defect_half", "--measure", "trench")
         self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
         self.assertIn("[3/3]", r.stdout)
-        # The trench's list of inclusions reaches its run's config file as a list.
+        # The trench's list of inclusions reaches its run's config file as a list, and 4.0e0 as the number
+        # yaml-cpp reads (YAML 1.1 makes it a word, which --set would pass on quoted).
         config = yaml.safe_load((out / "run_003" / "config.yaml").read_text())
         self.assertEqual(config["soil"]["inclusions"][0]["depth_m"], [0.0, 4.0])
         with open(out / "mitigation.csv") as f:
