@@ -14,7 +14,9 @@
 - report.py's figures: a sine of amplitude A lasting T has a transform peak of A T / 2; the KB_F
   lines are the live sensors' A_u / A_o (an older bag's: `railvib_tool din-guides` of the recorded
   period); impact times are the wheels' defect crossings; the governing component is plotted; KB_FTr
-  is the tool's; scenario.yaml is the recorded config; a bag without the record still reports.
+  is the tool's; scenario.yaml is the recorded config; a bag without the record still reports;
+- the railvib script's workspace: two commands building at once take turns (the build lock), and a
+  failed build shows the compiler's error lines, not every line holding the word "error".
 
 usage: test_scripts.py [JUNIT_XML]
 """
@@ -629,10 +631,73 @@ class ReportFigures(unittest.TestCase):
         self.assertEqual(len(shown["figures"]), 4)
 
 
+FAKE_CATKIN_MAKE = r'''#!/bin/sh
+# A stand-in for catkin_make: notes when it builds, fails if another build is inside the same tree.
+ws="$(pwd)"
+if [ -e "$ws/building" ]; then echo "two builds in $ws at once" >> "$ws/overlap"; fi
+touch "$ws/building"
+echo "start $(date +%s.%N)" >> "$ws/builds"
+if [ -n "$FAKE_FAIL" ]; then
+  for i in $(seq 1 80); do echo "[ $i%] Building CXX object src/common/error_code.cpp.o -Werror=return-type"; done
+  echo "/src/soil/kernel.cpp:42:7: error: 'stiffnes' was not declared in this scope"
+  echo "   42 |       stiffnes += 1;"
+  echo "      |       ^~~~~~~~"
+  for i in $(seq 1 30); do echo "note: Error handling in unit $i"; done
+  echo "make[2]: *** [CMakeFiles/railvib_core.dir/build.make:76: kernel.cpp.o] Error 1"
+  rm -f "$ws/building"
+  exit 2
+fi
+sleep 1.5
+echo "end $(date +%s.%N)" >> "$ws/builds"
+rm -f "$ws/building"
+'''
+
+
+class Workspace(unittest.TestCase):
+    """The railvib script's build step with a stand-in for catkin_make (RAILVIB_CATKIN_MAKE), in a copy of
+    the script whose workspace is a temporary folder."""
+
+    def setUp(self):
+        self.root = WORK / f"clone_{self._testMethodName}"
+        self.root.mkdir(parents=True)
+        shutil.copy(ROOT / "railvib", self.root / "railvib")
+        fake = self.root / "fake_catkin_make"
+        fake.write_text(FAKE_CATKIN_MAKE)
+        fake.chmod(0o755)
+        self.env = {**os.environ, "RAILVIB_CATKIN_MAKE": str(fake), "RAILVIB_CCACHE": "0"}
+
+    def setup_command(self, **env):
+        return subprocess.Popen(["bash", str(self.root / "railvib"), "setup"], env={**self.env, **env},
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def test_two_commands_building_at_once_take_turns(self):
+        first, second = self.setup_command(), self.setup_command()
+        outputs = [p.communicate(timeout=120) for p in (first, second)]
+        for p, (out, err) in zip((first, second), outputs):
+            self.assertEqual(p.returncode, 0, err)
+        ws = self.root / ".ws"
+        self.assertFalse((ws / "overlap").exists(), (ws / "overlap").read_text() if (ws / "overlap").exists() else "")
+        times = [float(line.split()[1]) for line in (ws / "builds").read_text().splitlines()]
+        kinds = [line.split()[0] for line in (ws / "builds").read_text().splitlines()]
+        self.assertEqual(kinds, ["start", "end", "start", "end"])
+        self.assertGreaterEqual(times[2], times[1])  # the second build began after the first had ended
+        self.assertEqual(sum("waiting for it" in err for _, err in outputs), 1, outputs)
+
+    def test_a_failed_build_shows_the_compilers_error_lines(self):
+        p = self.setup_command(FAKE_FAIL="1")
+        _, err = p.communicate(timeout=120)
+        self.assertEqual(p.returncode, 1)
+        self.assertIn("kernel.cpp:42:7: error: 'stiffnes' was not declared in this scope", err)
+        self.assertIn("stiffnes += 1;", err)  # the code line after the error
+        self.assertIn("build failed; full log:", err)
+        self.assertNotIn("error_code.cpp", err)
+        self.assertNotIn("Error handling in unit 30", err)
+
+
 def write_junit(result, path):
     suite = ET.Element("testsuite", name="script_tests", tests=str(result.testsRun))
     failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace):
         for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
             case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
             if test.id() in failed:
@@ -643,7 +708,7 @@ def write_junit(result, path):
 
 if __name__ == "__main__":
     suite = unittest.TestSuite()
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace):
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
