@@ -20,8 +20,18 @@ through roslaunch's own API (same output, same master handling, same
 
 A launch without a node named like the finisher (e.g. replay.launch) runs until
 interrupted; it fails if any process dies with a non-zero exit code.
+
+Nothing outlives the launcher: SIGTERM (or SIGHUP) ends the launch as Ctrl-C
+does; a guardian process of its own session holds the process groups of the
+master and the nodes, and ends them (SIGINT, SIGTERM, SIGKILL, each after a
+grace period) if the launcher is killed with SIGKILL; and the launcher gets
+SIGTERM when the process that started it (./railvib run) dies.
 """
 import argparse
+import ctypes
+import os
+import signal
+import subprocess
 import sys
 
 try:
@@ -67,6 +77,101 @@ def verdict(deaths, required, finisher):
     return True, "no process failed"
 
 
+GUARDIAN = r"""
+import os, signal, sys, time
+groups = []
+for line in sys.stdin:
+    word = line.strip()
+    if word == "done":
+        sys.exit(0)
+    if word.isdigit():
+        groups.append(int(word))
+
+def alive(group):
+    try:
+        os.killpg(group, 0)
+        return True
+    except OSError:
+        return False
+
+left = [g for g in groups if alive(g)]
+if left:
+    print(f"railvib: the launcher is gone; ending the {len(left)} process group(s) it started", file=sys.stderr)
+for sig, grace_s in ((signal.SIGINT, %(grace_s)r), (signal.SIGTERM, %(term_grace_s)r), (signal.SIGKILL, 0.0)):
+    left = [g for g in left if alive(g)]
+    for g in left:
+        try:
+            os.killpg(g, sig)
+        except OSError:
+            pass
+    end = time.monotonic() + grace_s
+    while time.monotonic() < end and any(alive(g) for g in left):
+        time.sleep(0.1)
+"""
+
+
+class Guardian:
+    """A process in a session of its own that reads the launch's process groups on a pipe; the pipe's end
+    (the launcher killed) without "done" makes it end them."""
+
+    def __init__(self, grace_s=15.0, term_grace_s=5.0):
+        self.known = set()
+        self.proc = subprocess.Popen([sys.executable, "-c", GUARDIAN % {"grace_s": grace_s,
+                                                                        "term_grace_s": term_grace_s}],
+                                     stdin=subprocess.PIPE, text=True, start_new_session=True)
+
+    def watch(self, parent):
+        """Every process roslaunch has started so far (each in a session, so a group, of its own)."""
+        for p in list(parent.pm.procs):
+            pid = getattr(getattr(p, "popen", None), "pid", None)
+            if pid and pid not in self.known:
+                self.known.add(pid)
+                self.proc.stdin.write(f"{pid}\n")
+        self.proc.stdin.flush()
+
+    def done(self):
+        try:
+            self.proc.stdin.write("done\n")
+            self.proc.stdin.close()
+        except (BrokenPipeError, ValueError):
+            pass
+        self.proc.wait()
+
+
+INTERRUPTED = []  # the signals that ended the launch
+
+
+def on_signal(sig, frame):
+    INTERRUPTED.append(signal.Signals(sig).name)
+    raise KeyboardInterrupt
+
+
+def note_roslaunch_signals():
+    """roslaunch takes SIGINT, SIGTERM and SIGHUP over once it starts processes (its handler shuts the
+    nodes down, and its process monitor re-installs it if replaced); its handler is wrapped so that the
+    verdict knows the launch was interrupted."""
+    original = roslaunch.pmon.rl_signal
+
+    def rl_signal(sig, frame):
+        INTERRUPTED.append(signal.Signals(sig).name)
+        original(sig, frame)
+
+    roslaunch.pmon.rl_signal = rl_signal
+
+
+def end_with_the_parent():
+    """SIGTERM to this process when the one that started it dies (Linux prctl PR_SET_PDEATHSIG)."""
+    parent = os.getppid()
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        PR_SET_PDEATHSIG = 1
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:  # it died before the request
+        os.kill(os.getpid(), signal.SIGTERM)
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-p", "--port", type=int, default=None, help="master port (a new master if none runs)")
@@ -85,23 +190,34 @@ def main(argv):
     watch = Watch()
     parent = roslaunch.parent.ROSLaunchParent(uuid, [(files[0], launch_args)], port=options.port,
                                               process_listeners=[watch])
+    guardian = Guardian()
+    try:
+        return run(parent, watch, options, guardian)
+    finally:
+        guardian.done()
+
+
+def run(parent, watch, options, guardian):
     try:
         parent.start()
+        guardian.watch(parent)
         required = {n.name for n in parent.config.nodes if n.required}
         required.add("master")  # the master roslaunch started, if it did, is required too
         finisher_known = options.finisher in {n.name for n in parent.config.nodes}
         parent.spin()
     except KeyboardInterrupt:
         parent.shutdown()
-        print("railvib: launch interrupted", file=sys.stderr)
-        return 130
     except Exception as e:  # a bad launch file or argument
         try:
             parent.shutdown()
         except Exception:
             pass
-        print(f"railvib: launch failed: {e}", file=sys.stderr)
-        return 2
+        if not INTERRUPTED:
+            print(f"railvib: launch failed: {e}", file=sys.stderr)
+            return 2
+    if INTERRUPTED:  # also when roslaunch's handler took the signal and its spin returned
+        print(f"railvib: launch interrupted ({INTERRUPTED[0]})", file=sys.stderr)
+        return 130
     ok, why = verdict(watch.deaths, required if finisher_known else required - {options.finisher},
                       options.finisher if finisher_known else "")
     print(("railvib: launch finished: " if ok else "railvib: launch failed: ") + why, file=sys.stderr)
@@ -109,4 +225,10 @@ def main(argv):
 
 
 if __name__ == "__main__":
+    # SIGINT, SIGTERM and SIGHUP end the launch alike (also when started with SIGINT ignored): once
+    # roslaunch runs, its handlers shut the nodes down and then call this one.
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(sig, on_signal)
+    note_roslaunch_signals()
+    end_with_the_parent()
     sys.exit(main(sys.argv))

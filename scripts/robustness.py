@@ -39,6 +39,7 @@ import yaml
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import railvib_names as names  # noqa: E402
+import railvib_process  # noqa: E402
 import railvib_yaml  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 
@@ -468,8 +469,7 @@ def launcher(args, env=None, kill=None, kill_after_s=0.0, prefix=(), timeout=600
     try:
         out, _ = proc.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGINT)
-        out, _ = proc.communicate(timeout=60)
+        out, _ = railvib_process.stop(proc, grace_s=60.0)
         return None, out
     return proc.returncode, out
 
@@ -583,6 +583,7 @@ def table(results):
 
 
 def main(argv):
+    railvib_process.interrupts_by_default()
     parser = argparse.ArgumentParser(description="railvib robustness cases")
     parser.add_argument("--groups", default="config,csv,nodes,bags,launch")
     parser.add_argument("--table")

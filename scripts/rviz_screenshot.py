@@ -14,7 +14,6 @@ Needs the Debian packages rviz, xvfb and x11-apps (`./railvib setup --viz`).
 import argparse
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -26,6 +25,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.image  # noqa: E402
+
+import railvib_process  # noqa: E402
 
 
 def die(msg):
@@ -59,6 +60,7 @@ def xwd_to_rgb(data):
 
 
 def main():
+    railvib_process.interrupts_by_default()
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("bag")
     ap.add_argument("out", help="PNG file")
@@ -114,12 +116,8 @@ def main():
             print(f"rviz_screenshot: {path} at t = {grabbed_at:.3f} s")
         return 0
     finally:
-        if launch and launch.poll() is None:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
+        if launch:
+            railvib_process.stop(launch, grace_s=20.0)
         xvfb.terminate()
         xvfb.wait()
 

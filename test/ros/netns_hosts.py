@@ -14,7 +14,6 @@ Needs root (ip netns). usage: netns_hosts.py TEST_SOIL_MPI RESULTS_XML
 import os
 import pathlib
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -26,6 +25,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 sys.path.insert(0, str(ROOT / "test" / "ros"))
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_process  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
 from junit_xml import write_junit  # noqa: E402
 
@@ -81,13 +81,7 @@ def wait_for_node(host, node, timeout_s=120.0):
 
 
 def stop(proc):
-    if proc.poll() is None:
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
+    railvib_process.stop(proc, grace_s=60.0)
 
 
 class NetnsHosts(unittest.TestCase):
@@ -173,6 +167,7 @@ if __name__ == "__main__":
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     TEST_SOIL_MPI = sys.argv[1]
+    railvib_process.interrupts_by_default()
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(NetnsHosts)
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     write_junit(result, "netns_hosts", NetnsHosts, sys.argv[2])

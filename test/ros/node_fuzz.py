@@ -33,6 +33,7 @@ ROOT = HERE.parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
 import railvib_names as names  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
+import railvib_process  # noqa: E402
 
 CRASH_MARKERS = ("AddressSanitizer", "UndefinedBehaviorSanitizer", "runtime error:", "LeakSanitizer",
                  "Segmentation fault", "Aborted", "Traceback", "terminate called", "core dumped")
@@ -97,8 +98,7 @@ class Harness:
 
     def close(self):
         self.rospy.signal_shutdown("done")
-        os.killpg(self.master.pid, signal.SIGINT)
-        self.master.wait(timeout=30)
+        railvib_process.stop(self.master)
 
 
 # ----------------------------------------------------------------- valid messages
@@ -455,13 +455,7 @@ def run_case(h, sc, index, case):
             if node == "recorder" and expected == "finished" and bag.exists() and proc.poll() is not None:
                 break
             time.sleep(0.1)
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        railvib_process.stop(proc)
         time.sleep(0.3)  # the last /diagnostics in flight
     finally:
         log.seek(0)
@@ -539,6 +533,7 @@ def write_junit(results, path):
 
 
 def main(argv):
+    railvib_process.interrupts_by_default()
     parser = argparse.ArgumentParser(description="railvib node-level fuzz")
     parser.add_argument("--junit")
     parser.add_argument("--json")

@@ -41,6 +41,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_process  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
 from junit_xml import write_junit  # noqa: E402
 
@@ -81,8 +82,7 @@ def launch(args, timeout_s=600, kill_node=None, kill_after_s=0.0, env_extra=None
     try:
         out, _ = proc.communicate(timeout=timeout_s)
     except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGINT)
-        out, _ = proc.communicate(timeout=60)
+        out, _ = railvib_process.stop(proc, grace_s=60.0)
         return -999, out
     return proc.returncode, out
 
@@ -284,10 +284,8 @@ class ScenarioChecks(unittest.TestCase):
         probe = subprocess.Popen([sys.executable, str(pathlib.Path(__file__).with_name("replay_probe.py")),
                                   str(probe_out)], env=env, start_new_session=True)
         time.sleep(25.0)  # start-up, the 4 s delay, 0.5 s of replay, and margin for a loaded machine
-        os.killpg(probe.pid, signal.SIGINT)
-        probe.wait(timeout=30)
-        os.killpg(replay.pid, signal.SIGINT)
-        out, _ = replay.communicate(timeout=60)
+        railvib_process.stop(probe)
+        out, _ = railvib_process.stop(replay, grace_s=60.0)
         self.assertTrue(probe_out.exists(), "the probe wrote nothing:\n" + out[-3000:])
         got = json.loads(probe_out.read_text())
 
@@ -411,6 +409,7 @@ if __name__ == "__main__":
     CONFIG = str(pathlib.Path(__file__).resolve().parents[2] / "config" / "haren_ci.yaml")
     if not pathlib.Path(CONFIG).exists():
         CONFIG = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "config", "haren_ci.yaml")
+    railvib_process.interrupts_by_default()
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(ScenarioChecks)
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:

@@ -15,6 +15,9 @@
   lines are the live sensors' A_u / A_o (an older bag's: `railvib_tool din-guides` of the recorded
   period); impact times are the wheels' defect crossings; the governing component is plotted; KB_FTr
   is the tool's; scenario.yaml is the recorded config; a bag without the record still reports;
+- nothing outlives the launcher (launch_scenario.py): its master and nodes end when it is killed with
+  SIGKILL, when the ./railvib that started it is, and on SIGTERM when it was started with SIGINT
+  ignored (nohup, `&`); railvib_process.stop ends a process that ignores SIGINT and SIGTERM;
 - the railvib script's workspace: two commands building at once take turns (the build lock), and a
   failed build shows the compiler's error lines, not every line holding the word "error".
 
@@ -28,6 +31,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 import xml.etree.ElementTree as ET
 
@@ -694,10 +698,150 @@ class Workspace(unittest.TestCase):
         self.assertNotIn("Error handling in unit 30", err)
 
 
+IDLE_LAUNCH = """<launch>
+  <param name="/railvib/config_file" value="{config}"/>
+  <node pkg="railvib" type="site_frames_node" name="frames_a"/>
+  <node pkg="railvib" type="site_frames_node" name="frames_b"/>
+</launch>
+"""
+
+
+def free_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def processes_of_master(port):
+    """PIDs of the live processes (not zombies) that belong to the master on PORT: the master itself and
+    every process whose ROS_MASTER_URI names it."""
+    from urllib.parse import urlparse
+    found = []
+    for d in pathlib.Path("/proc").iterdir():
+        if not d.name.isdigit() or int(d.name) == os.getpid():
+            continue
+        try:
+            if (d / "stat").read_text().split(")")[-1].split()[0] == "Z":
+                continue
+            cmd = (d / "cmdline").read_bytes().split(b"\0")
+            env = (d / "environ").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        uris = [e[len(b"ROS_MASTER_URI="):].decode(errors="replace") for e in env if e.startswith(b"ROS_MASTER_URI=")]
+        # roslaunch hands its nodes the master's URI with the host's name (http://HOST:PORT/)
+        if any(urlparse(u).port == port for u in uris) or (b"rosmaster" in b" ".join(cmd) and str(port).encode() in cmd):
+            found.append(int(d.name))
+    return found
+
+
+class LauncherTeardown(unittest.TestCase):
+    """launch_scenario.py on a launch of two idle nodes, ended in the ways a user or a harness ends it."""
+
+    def setUp(self):
+        import railvib_process
+        self.railvib_process = railvib_process
+        self.port = free_port()
+        self.launch = WORK / "idle.launch"
+        self.launch.write_text(IDLE_LAUNCH.format(config=ROOT / "config" / "haren_ci.yaml"))
+        self.env = {**os.environ, "ROS_MASTER_URI": f"http://localhost:{self.port}"}
+        self.started = []
+
+    def tearDown(self):
+        for pid in processes_of_master(self.port):  # whatever a failed case left behind
+            try:
+                os.kill(pid, 9)
+            except OSError:
+                pass
+        for p in self.started:
+            if p.poll() is None:
+                p.kill()
+            p.wait()
+
+    def start(self, command, ignore_sigint=False):
+        def ignore():
+            import signal
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        p = subprocess.Popen(command, env=self.env, start_new_session=True, stdout=subprocess.PIPE,
+                             stderr=subprocess.STDOUT, text=True, preexec_fn=ignore if ignore_sigint else None)
+        self.started.append(p)
+        return p
+
+    def launcher(self):
+        return [sys.executable, str(SCRIPTS / "launch_scenario.py"), "-p", str(self.port), str(self.launch)]
+
+    def wait_for_nodes(self):
+        deadline = time.time() + 90
+        while time.time() < deadline:
+            listed = subprocess.run(["rosnode", "list"], env=self.env, capture_output=True, text=True, timeout=30)
+            if {"/frames_a", "/frames_b"} <= set(listed.stdout.split()):
+                pids = processes_of_master(self.port)
+                commands = " ".join(pathlib.Path(f"/proc/{p}/cmdline").read_text() for p in pids)
+                self.assertIn("__name:=frames_a", commands)
+                self.assertIn("__name:=frames_b", commands)
+                self.assertIn("rosmaster", commands)
+                return pids
+            time.sleep(0.2)
+        self.fail("the idle launch did not come up")
+
+    def assert_all_end(self, pids, within_s):
+        deadline = time.time() + within_s
+        while time.time() < deadline:
+            alive = [p for p in pids if p in processes_of_master(self.port)]
+            if not alive:
+                return
+            time.sleep(0.2)
+        self.fail(f"still running {within_s} s later: {alive}")
+
+    def test_the_launcher_killed_with_sigkill_leaves_nothing_running(self):
+        launcher = self.start(self.launcher())
+        pids = self.wait_for_nodes()
+        launcher.kill()
+        launcher.wait()
+        self.assert_all_end(pids, 30.0)
+
+    def test_the_launcher_ends_with_the_command_that_started_it(self):
+        shell = self.start(["bash", "-c", " ".join(self.launcher()) + "; echo unreachable"])
+        pids = self.wait_for_nodes()
+        shell.kill()  # SIGKILL to the bash alone, as ./railvib run killed with kill -9
+        shell.wait()
+        self.assert_all_end(pids, 30.0)
+
+    def test_started_with_sigint_ignored_a_harness_ends_it_within_its_grace(self):
+        launcher = self.start(self.launcher(), ignore_sigint=True)
+        pids = self.wait_for_nodes()
+        t0 = time.time()
+        out, _ = self.railvib_process.stop(launcher, grace_s=25.0, term_grace_s=10.0)
+        self.assertLess(time.time() - t0, 25.0, out)  # SIGINT did it: no escalation needed
+        self.assertEqual(launcher.returncode, 130, out)
+        self.assertIn("railvib: launch interrupted", out)
+        self.assertEqual(processes_of_master(self.port), [])
+        self.assert_all_end(pids, 1.0)
+
+    def test_sigterm_ends_the_launch_like_ctrl_c(self):
+        launcher = self.start(self.launcher(), ignore_sigint=True)
+        pids = self.wait_for_nodes()
+        launcher.terminate()
+        out, _ = launcher.communicate(timeout=40)
+        self.assertIn("railvib: launch interrupted", out)
+        self.assert_all_end(pids, 1.0)
+
+    def test_stop_escalates_to_sigkill_for_a_process_that_ignores_sigint_and_sigterm(self):
+        stubborn = self.start([sys.executable, "-c", "import signal, sys, time\n"
+                               "signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+                               "signal.signal(signal.SIGTERM, signal.SIG_IGN)\n"
+                               "print('ready', flush=True)\ntime.sleep(300)"])
+        self.assertEqual(stubborn.stdout.readline().strip(), "ready")
+        t0 = time.time()
+        self.railvib_process.stop(stubborn, grace_s=1.0, term_grace_s=1.0)
+        self.assertEqual(stubborn.returncode, -9)
+        self.assertLess(time.time() - t0, 10.0)
+
+
 def write_junit(result, path):
     suite = ET.Element("testsuite", name="script_tests", tests=str(result.testsRun))
     failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
         for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
             case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
             if test.id() in failed:
@@ -708,7 +852,7 @@ def write_junit(result, path):
 
 if __name__ == "__main__":
     suite = unittest.TestSuite()
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace):
+    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
