@@ -4,13 +4,22 @@ none outlives it:
 - `interrupts_by_default()`: a script started in the background (`cmd &` in a non-interactive shell,
   nohup) inherits SIGINT ignored, and so would every process it starts; the master would then never
   end on SIGINT. Called first thing, it gives the script (and what it starts) the default Ctrl-C.
+- `free_port()`: a TCP port no process listens on, from the system (for a master of one's own: two
+  studies, test suites or harnesses at once never pick the same one, as fixed ranges did).
 - `stop(proc)`: ends a process started with `start_new_session=True` and everything in its group:
   SIGINT (a clean ROS shutdown), then SIGTERM after a grace period, then SIGKILL; returns what
   `communicate()` returns, so the caller keeps the output.
 """
 import os
 import signal
+import socket
 import subprocess
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
 
 
 def interrupts_by_default():

@@ -440,12 +440,12 @@ def bags_group():
 
 
 # ----------------------------------------------------------------- launches
-PORT = [13000 + os.getpid() % 2000]
+PORT = [0]  # the master's port of the case being run: a free one each time
 
 
 def launcher(args, env=None, kill=None, kill_after_s=0.0, prefix=(), timeout=600):
     """launch_scenario.py on a master of its own; optionally kill a node or the master mid-run."""
-    PORT[0] += 1
+    PORT[0] = railvib_process.free_port()
     env = dict(env or os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
     cmd = list(prefix) + [sys.executable, str(ROOT / "scripts" / "launch_scenario.py"), "-p", str(PORT[0])] + args
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
@@ -515,7 +515,7 @@ def launch_group():
     full_dir, out_dir = WORK / "tmpfs", WORK / "launch"
     full_dir.mkdir(parents=True, exist_ok=True)
     unshare = ["unshare", "-m"] if os.geteuid() == 0 else ["unshare", "-r", "-m"]
-    PORT[0] += 1
+    PORT[0] = railvib_process.free_port()
     inner = (f"mount -t tmpfs -o size=3m tmpfs {full_dir} && "
              f"{sys.executable} {ROOT / 'scripts' / 'launch_scenario.py'} -p {PORT[0]} railvib track.launch "
              f"speed:=2.0 duration:=0.3 bag:={full_dir / 'full.bag'}; rc=$?; "

@@ -54,6 +54,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import mitigation  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_process  # noqa: E402
 import railvib_yaml  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 
@@ -69,7 +70,6 @@ LAUNCH_ARGUMENTS = {"speed", "foundation", "duration", "track", "coupling", "veh
                     "sim_time"}
 UNITS = {"speed": "m/s", "duration": "s"}  # launch arguments; config keys carry their unit in the name
 COMPONENTS = ("x", "y", "z")
-FIRST_PORT = 11411  # masters of concurrent runs: FIRST_PORT + job slot
 
 
 def die(msg):
@@ -245,7 +245,7 @@ class Progress:
                   f"elapsed {time.monotonic() - self.start:.0f} s, ETA {eta:.0f} s", flush=True)
 
 
-def run_one(index, label, values, options, base_config, slots, progress):
+def run_one(index, label, values, options, base_config, progress):
     run_dir = options.outdir / f"run_{index + 1:03d}"
     run_dir.mkdir(parents=True, exist_ok=True)
     bag = run_dir / "run.bag"
@@ -253,17 +253,13 @@ def run_one(index, label, values, options, base_config, slots, progress):
         stale.unlink()
     config = write_run_config(run_dir, base_config, values)
     command = options.runner + [options.scenario] + launch_arguments(values) + [f"config:={config}", f"bag:={bag}"]
-    slot = slots.get()
     env = dict(os.environ)
     env["RAILVIB_SKIP_SETUP"] = "1"
-    env["RAILVIB_ROS_PORT"] = str(FIRST_PORT + slot)
+    env["RAILVIB_ROS_PORT"] = str(railvib_process.free_port())  # each run a master of its own
     env["RAILVIB_COMMAND_LINE"] = f"./railvib study (run {index + 1}: {label}): " + " ".join(command[1:])
     start = time.monotonic()
-    try:
-        with open(run_dir / "run.log", "w") as log:
-            code = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=ROOT).returncode
-    finally:
-        slots.put(slot)
+    with open(run_dir / "run.log", "w") as log:
+        code = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=ROOT).returncode
     seconds = time.monotonic() - start
     result = {"index": index + 1, "label": label, "values": values, "dir": run_dir, "code": code, "seconds": seconds,
               "metrics": {}, "error": ""}
@@ -451,13 +447,9 @@ def main(argv):
     options.runner = options.runner.split()
     (options.outdir / "study.yaml").write_text(yaml.safe_dump({**spec, "scenario": options.scenario,
                                                               "config": str(base)}, sort_keys=False))
-    import queue
-    slots = queue.Queue()
-    for s in range(options.jobs):
-        slots.put(s)
     progress = Progress(len(runs), options.jobs)
     with concurrent.futures.ThreadPoolExecutor(max_workers=options.jobs) as pool:
-        futures = [pool.submit(run_one, i, label, values, options, base, slots, progress)
+        futures = [pool.submit(run_one, i, label, values, options, base, progress)
                    for i, (label, values) in enumerate(runs)]
         results = [f.result() for f in futures]
     rows = rows_of(results, keys)

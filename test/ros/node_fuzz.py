@@ -502,7 +502,7 @@ def run_case(h, sc, index, case):
 
 
 def run(selected_nodes=None, only=None, progress=True):
-    port = 12000 + os.getpid() % 3000
+    port = railvib_process.free_port()
     h = Harness(port)
     sc = Scenario(scenario_summary())
     results = []

@@ -49,14 +49,14 @@ LAUNCHER = str(ROOT / "scripts" / "launch_scenario.py")
 
 STREAMS = names.STREAMS
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_scenarios_"))
-PORT = [11500 + os.getpid() % 400]
+PORT = [0]  # the master's port of the case being run: a free one each time
 
 
 def launch(args, timeout_s=600, kill_node=None, kill_after_s=0.0, env_extra=None, on_start=None):
     """The launch through scripts/launch_scenario.py (roslaunch with an exit code that tells) on a master
     of its own; optionally kill one node after a delay, or call on_start(process, env) once it runs.
     Returns (exit code, output)."""
-    PORT[0] += 1
+    PORT[0] = railvib_process.free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
     for key, value in (env_extra or {}).items():
         if value is None:
@@ -274,7 +274,7 @@ class ScenarioChecks(unittest.TestCase):
 
     def test_replay_feeds_sensors_tf_and_rviz_scene(self):
         source = haren_run(self, "a")
-        PORT[0] += 1
+        PORT[0] = railvib_process.free_port()
         env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
         probe_out = WORK / "replay_probe.json"
         replay = subprocess.Popen(["roslaunch", "-p", str(PORT[0]), "railvib", "replay.launch", "bag:=" + str(source),
@@ -335,7 +335,7 @@ class ScenarioChecks(unittest.TestCase):
     def test_railvib_run_exits_non_zero_when_the_run_fails(self):
         env = dict(os.environ, RAILVIB_SKIP_SETUP="1")
         for args, ok in ((["speed:=2.0", "duration:=0.2"], True), (["speed:=-5", "duration:=0.2"], False)):
-            PORT[0] += 1
+            PORT[0] = railvib_process.free_port()
             env["RAILVIB_ROS_PORT"] = str(PORT[0])
             env["ROS_MASTER_URI"] = f"http://localhost:{PORT[0]}"
             bag = WORK / f"run_{'ok' if ok else 'refused'}.bag"

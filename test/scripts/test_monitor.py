@@ -23,7 +23,6 @@ import os
 import pathlib
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -39,6 +38,7 @@ SCRIPTS = ROOT / "scripts"
 sys.path.insert(0, str(SCRIPTS))
 import monitor  # noqa: E402  (its colours and layout line; importing it starts nothing)
 import railvib_names as names  # noqa: E402
+import railvib_process  # noqa: E402
 from rviz_screenshot import xwd_to_rgb  # noqa: E402
 
 import matplotlib.image  # noqa: E402  (rviz_screenshot has chosen the Agg backend)
@@ -60,12 +60,6 @@ COLOUR_TOLERANCE = 40
 MIN_LINE_PIXELS = 1000  # per component colour, per sensor's velocity axes (about 4 000-16 000 drawn)
 
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_monitor_test_"))
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def free_display():
@@ -148,7 +142,7 @@ class Monitor(unittest.TestCase):
 
     @classmethod
     def run_monitor(cls):
-        port = free_port()
+        port = railvib_process.free_port()
         display = free_display()
         uri = f"http://127.0.0.1:{port}"
         # The test's own node and every child use this master, on loopback; logs stay in WORK.

@@ -41,6 +41,7 @@ sys.path.insert(0, str(SCRIPTS))
 import bag_check  # noqa: E402
 import launch_scenario  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_process  # noqa: E402
 import test_summary  # noqa: E402
 
 import rosbag  # noqa: E402
@@ -687,6 +688,14 @@ class Workspace(unittest.TestCase):
         self.assertGreaterEqual(times[2], times[1])  # the second build began after the first had ended
         self.assertEqual(sum("waiting for it" in err for _, err in outputs), 1, outputs)
 
+    def test_a_bad_master_port_is_refused_before_anything_is_built(self):
+        for args in (["--port", "abc"], ["--port", "80"], ["--port=70000"], ["--port"]):
+            r = subprocess.run(["bash", str(self.root / "railvib"), "run"] + args, env=self.env,
+                               capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 1, args)
+            self.assertRegex(r.stderr, r"master port '.*': a number from 1024 to 65535|--port needs a number", args)
+            self.assertFalse((self.root / ".ws" / "builds").exists(), args)
+
     def test_a_failed_build_shows_the_compilers_error_lines(self):
         p = self.setup_command(FAKE_FAIL="1")
         _, err = p.communicate(timeout=120)
@@ -704,13 +713,6 @@ IDLE_LAUNCH = """<launch>
   <node pkg="railvib" type="site_frames_node" name="frames_b"/>
 </launch>
 """
-
-
-def free_port():
-    import socket
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def processes_of_master(port):
@@ -739,9 +741,8 @@ class LauncherTeardown(unittest.TestCase):
     """launch_scenario.py on a launch of two idle nodes, ended in the ways a user or a harness ends it."""
 
     def setUp(self):
-        import railvib_process
         self.railvib_process = railvib_process
-        self.port = free_port()
+        self.port = railvib_process.free_port()
         self.launch = WORK / "idle.launch"
         self.launch.write_text(IDLE_LAUNCH.format(config=ROOT / "config" / "haren_ci.yaml"))
         self.env = {**os.environ, "ROS_MASTER_URI": f"http://localhost:{self.port}"}
