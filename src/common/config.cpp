@@ -267,7 +267,16 @@ void recordSources(const YAML::Node& node, const std::string& path, const std::s
   if (!path.empty()) sources[path] = file;
   if (node.IsMap()) {
     for (const auto& kv : node) {
-      recordSources(kv.second, joinPath(path, kv.first.as<std::string>()), file, sources);
+      const std::string key = kv.first.as<std::string>();
+      // A key path in one key ("soil.mesh.f_max_hz: 30") would be a key of its own that no loader asks
+      // for: say how it is written instead of calling it unknown.
+      if (key.find('.') != std::string::npos) {
+        throw ConfigError("config error in " + file + ": key '" + joinPath(path, key) +
+                          "' holds dots: in a file a key path is nested (soil:, mesh:, f_max_hz: on lines of "
+                          "their own, indented), on the command line it is --set " +
+                          joinPath(path, key) + "=VALUE");
+      }
+      recordSources(kv.second, joinPath(path, key), file, sources);
     }
   }
 }
@@ -287,14 +296,39 @@ YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& overlay) {
   return result;
 }
 
-YAML::Node loadFileRecursive(const fs::path& file, std::map<std::string, std::string>& sources,
-                             std::vector<fs::path>& stack) {
+// Include chains are bounded (a scenario's are 2 deep and 7 files) and each file is read once: a file
+// included a second time would re-impose its values over those merged in between, an order nobody means.
+constexpr size_t kMaxIncludeDepth = 8;
+constexpr size_t kMaxIncludedFiles = 64;
+
+struct IncludeState {
+  std::vector<fs::path> stack;               // the chain being read
+  std::map<fs::path, fs::path> included_by;  // every file read so far, and the file that included it
+};
+
+YAML::Node loadFileRecursive(const fs::path& file, const fs::path& includer,
+                             std::map<std::string, std::string>& sources, IncludeState& state) {
+  std::vector<fs::path>& stack = state.stack;
   const fs::path canonical = fs::weakly_canonical(file);
   for (const auto& open : stack) {
     if (open == canonical) {
       throw ConfigError("config error: include cycle through " + canonical.string());
     }
   }
+  if (const auto seen = state.included_by.find(canonical); seen != state.included_by.end()) {
+    throw ConfigError("config error in " + includer.string() + ": include " + canonical.string() +
+                      ": already included (by " + seen->second.string() +
+                      "); a file is included once, or its values would override those merged in between");
+  }
+  if (stack.size() >= kMaxIncludeDepth) {
+    throw ConfigError("config error in " + includer.string() + ": include " + canonical.string() + ": more than " +
+                      std::to_string(kMaxIncludeDepth) + " files deep");
+  }
+  if (state.included_by.size() >= kMaxIncludedFiles) {
+    throw ConfigError("config error in " + includer.string() + ": include " + canonical.string() + ": more than " +
+                      std::to_string(kMaxIncludedFiles) + " files in one configuration");
+  }
+  state.included_by[canonical] = includer.empty() ? fs::path("the command line") : includer;
   YAML::Node doc = parseStrict(readConfigText(canonical), canonical.string());
   if (doc.IsNull()) doc = YAML::Node(YAML::NodeType::Map);
   if (!doc.IsMap()) {
@@ -314,7 +348,7 @@ YAML::Node loadFileRecursive(const fs::path& file, std::map<std::string, std::st
                           ": must be a file name");
       }
       const fs::path inc_path = canonical.parent_path() / inc.Scalar();
-      merged = deepMerge(merged, loadFileRecursive(inc_path, sources, stack));
+      merged = deepMerge(merged, loadFileRecursive(inc_path, canonical, sources, state));
     }
     doc.remove("include");
   }
@@ -457,10 +491,20 @@ std::vector<ConfigNode> ConfigNode::sectionList(const std::string& key) const {
   return out;
 }
 
+namespace {
+// A number written as text (quoted, "8.0e6", or tagged !!str) is refused: yaml-cpp would convert it,
+// other YAML readers (the scripts', PyYAML) keep it a string, and a quote is usually a slip.
+bool writtenAsText(const YAML::Node& value) {
+  return value.IsScalar() && (value.Tag() == "!" || value.Tag() == "tag:yaml.org,2002:str");
+}
+const char* const kNumberAsText = "is text (in quotes or tagged !!str), not a number: write the number without quotes";
+}  // namespace
+
 double ConfigNode::number(const std::string& key, const Range& range) const {
   YAML::Node value = required(key);
   double v = 0.0;
   if (!value.IsScalar()) failValue(key, value, "must be a number");
+  if (writtenAsText(value)) failValue(key, value, kNumberAsText);
   try {
     v = value.as<double>();
   } catch (const YAML::Exception&) {
@@ -481,6 +525,7 @@ long ConfigNode::integer(const std::string& key, long lo, long hi) const {
   long v = 0;
   const std::string allowed = "allowed integer range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   if (!value.IsScalar()) failValue(key, value, "must be an integer; " + allowed);
+  if (writtenAsText(value)) failValue(key, value, kNumberAsText);
   try {
     v = value.as<long>();
   } catch (const YAML::Exception&) {
@@ -551,6 +596,7 @@ std::vector<double> ConfigNode::numbers(const std::string& key, const Range& ran
   std::vector<double> out;
   for (const auto& item : value) {
     double v = 0.0;
+    if (writtenAsText(item)) failValue(key, value, "entry " + describeValue(item) + " " + kNumberAsText);
     try {
       v = item.as<double>();
     } catch (const YAML::Exception&) {
@@ -587,8 +633,8 @@ std::string ConfigNode::filePath(const std::string& key) const {
 
 Config Config::load(const std::string& file, const std::vector<std::string>& overrides) {
   auto data = std::make_shared<detail::ConfigData>();
-  std::vector<fs::path> stack;
-  data->root = loadFileRecursive(file, data->sources, stack);
+  IncludeState includes;
+  data->root = loadFileRecursive(file, fs::path(), data->sources, includes);
   data->file = fs::weakly_canonical(file).string();
   for (const auto& o : overrides) applyOverride(*data, o);
   return Config(data);

@@ -198,3 +198,70 @@ TEST(ConfigStrict, OverrideValuesGetTheSameChecks) {
   expectContains(errorOf([&] { Config::load(f.string(), {"a=[unclosed"}); }), {"override", "not valid YAML"});
   fs::remove_all(dir);
 }
+
+// Include chains: a file included twice (a diamond or a repeat) names both includers; chains deeper
+// than 8 files or more than 64 files in all are refused, generated here, whatever the file names.
+TEST(ConfigStrict, IncludeChainsAreBoundedAndEachFileIsReadOnce) {
+  const fs::path dir = tempDir("inc");
+  writeFile(dir, "common.yaml", "track:\n  a_m: 1\n");
+  writeFile(dir, "site.yaml", "include: [common.yaml]\n");
+  writeFile(dir, "vehicle.yaml", "include: [common.yaml]\n");
+  const fs::path diamond = writeFile(dir, "diamond.yaml", "include: [site.yaml, vehicle.yaml]\n");
+  expectContains(errorOf([&] { Config::load(diamond.string()); }),
+                 {"vehicle.yaml", "include", "common.yaml", "already included (by", "site.yaml"});
+  const fs::path twice = writeFile(dir, "twice.yaml", "include: [common.yaml, common.yaml]\n");
+  expectContains(errorOf([&] { Config::load(twice.string()); }), {"twice.yaml", "already included"});
+  for (const size_t depth : {7u, 8u, 9u, 20u}) {
+    // chain_0 includes chain_1 ... includes chain_{depth-1}: depth files in all.
+    for (size_t i = 0; i < depth; ++i) {
+      writeFile(dir, "chain_" + std::to_string(i) + ".yaml",
+                i + 1 < depth ? "include: [chain_" + std::to_string(i + 1) + ".yaml]\n" : "track:\n  a_m: 1\n");
+    }
+    const std::string top = (dir / "chain_0.yaml").string();
+    if (depth <= 8) {
+      EXPECT_EQ(Config::load(top).section("track").number("a_m", Range::any()), 1.0) << depth;
+    } else {
+      expectContains(errorOf([&] { Config::load(top); }), {"more than 8 files deep"});
+    }
+  }
+  for (const size_t count : {64u, 65u, 500u}) {
+    // One file including count - 1 distinct files (count files in all).
+    std::string list = "include: [";
+    for (size_t i = 1; i < count; ++i) {
+      writeFile(dir, "leaf_" + std::to_string(i) + ".yaml", "leaf_" + std::to_string(i) + ": 1\n");
+      list += (i > 1 ? ", leaf_" : "leaf_") + std::to_string(i) + ".yaml";
+    }
+    const fs::path wide = writeFile(dir, "wide.yaml", list + "]\n");
+    if (count <= 64) {
+      EXPECT_NO_THROW(Config::load(wide.string())) << count;
+    } else {
+      expectContains(errorOf([&] { Config::load(wide.string()); }), {"wide.yaml", "more than 64 files"});
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// A key path written as one key, at the top or inside a section, is refused with how to write it.
+TEST(ConfigStrict, DottedKeysAreRefusedWithTheNestedForm) {
+  for (const std::string& text :
+       {std::string("soil.mesh.f_max_hz: 30\n"), std::string("soil:\n  mesh.f_max_hz: 30\n")}) {
+    expectContains(errorOf([&] { Config::fromString(text, "dots.yaml"); }),
+                   {"dots.yaml", "'soil.mesh.f_max_hz' holds dots", "--set soil.mesh.f_max_hz=VALUE"});
+  }
+}
+
+// Numbers written as text: every number getter refuses a quoted or !!str-tagged scalar, and takes the
+// same value written plain, in any of YAML's number forms.
+TEST(ConfigStrict, NumbersWrittenAsTextAreRefused) {
+  for (const std::string text : {"'8.0e6'", "\"8.0e6\"", "!!str 8.0e6", "'3'"}) {
+    const Config c = Config::fromString("a:\n  x: " + text + "\n  l: [1, " + text + "]\n", "q.yaml");
+    const auto a = c.section("a");
+    expectContains(errorOf([&] { a.number("x", Range::any()); }), {"a.x", "is text (in quotes or tagged !!str)"});
+    expectContains(errorOf([&] { a.integer("x", 0, 10000000000L); }), {"a.x", "is text"});
+    expectContains(errorOf([&] { a.numbers("l", Range::any()); }), {"a.l", "is text"});
+  }
+  for (const std::string text : {"8.0e6", "8e6", "8000000", "8.0e+6", "!!float 8.0e6"}) {
+    const Config c = Config::fromString("a:\n  x: " + text + "\n", "plain.yaml");
+    EXPECT_EQ(c.section("a").number("x", Range::any()), 8.0e6) << text;
+  }
+}
