@@ -12,6 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include "railvib/common/plausibility.hpp"
+
 namespace fs = std::filesystem;
 
 namespace railvib {
@@ -26,6 +28,8 @@ struct ConfigData {
   // alternatives (siblings named after a choice's other values): refuseUnknownKeys() knows both.
   mutable std::set<std::string> queried;
   mutable std::set<std::string> inactive;
+  // plausibility.accept: key paths whose value may lie outside its quantity's typical range
+  std::set<std::string> plausibility_accept;
 };
 }  // namespace detail
 
@@ -513,6 +517,15 @@ double ConfigNode::number(const std::string& key, const Range& range) const {
   if (!std::isfinite(v)) failValue(key, value, "must be a finite number; allowed range " + range.describe());
   if (!range.contains(v)) failValue(key, value, "out of range; allowed range " + range.describe());
   if (std::abs(v) > kMaxConfigMagnitude) failValue(key, value, magnitudeReason());
+  const std::string path = childPath(key);
+  if (const PlausibilityRule* rule = plausibilityRuleFor(path);
+      rule && !isTypical(*rule, v) && !data_->plausibility_accept.count(path)) {
+    std::ostringstream reason;
+    reason << "outside the typical range of this quantity, " << rule->typical_lo << " to " << rule->typical_hi << " "
+           << rule->unit << " in magnitude (" << rule->slip << "); if the value is meant, list '" << path
+           << "' under plausibility.accept";
+    failValue(key, value, reason.str());
+  }
   return v;
 }
 
@@ -631,12 +644,46 @@ std::string ConfigNode::filePath(const std::string& key) const {
   return (fs::path(source).parent_path() / p).lexically_normal().string();
 }
 
+namespace {
+// plausibility.accept: a list of key paths (as config errors name them, with list indices).
+void readPlausibilityAccept(detail::ConfigData& data) {
+  const YAML::Node section = data.root["plausibility"];
+  if (!section.IsDefined() || section.IsNull()) return;
+  const std::string file = data.sources.count("plausibility") ? data.sources.at("plausibility") : data.file;
+  const std::string where = " [file " + file + "]";
+  if (!section.IsMap())
+    throw ConfigError("config error: plausibility = " + describeValue(section) +
+                      ": must be a map (accept: [KEY PATHS])" + where);
+  for (const auto& kv : section) {
+    if (kv.first.as<std::string>() != "accept") {
+      throw ConfigError("config error: plausibility." + kv.first.as<std::string>() +
+                        ": unknown key (plausibility has accept only)" + where);
+    }
+  }
+  const YAML::Node accept = section["accept"];
+  if (!accept.IsSequence()) {
+    throw ConfigError("config error: plausibility.accept = " + describeValue(accept) + ": must be a list of key paths" +
+                      where);
+  }
+  for (const auto& entry : accept) {
+    if (!entry.IsScalar() || entry.Scalar().empty()) {
+      throw ConfigError("config error: plausibility.accept entry " + describeValue(entry) +
+                        ": must be a key path such as soil.layers[0].density_kg_m3" + where);
+    }
+    data.plausibility_accept.insert(entry.Scalar());
+  }
+  data.queried.insert("plausibility");
+  data.queried.insert("plausibility.accept");
+}
+}  // namespace
+
 Config Config::load(const std::string& file, const std::vector<std::string>& overrides) {
   auto data = std::make_shared<detail::ConfigData>();
   IncludeState includes;
   data->root = loadFileRecursive(file, fs::path(), data->sources, includes);
   data->file = fs::weakly_canonical(file).string();
   for (const auto& o : overrides) applyOverride(*data, o);
+  readPlausibilityAccept(*data);
   return Config(data);
 }
 
@@ -647,6 +694,7 @@ Config Config::fromString(const std::string& yaml_text, const std::string& label
   if (!data->root.IsMap()) throw ConfigError("config error in " + label + ": top level must be a map");
   data->file = label;
   recordSources(data->root, "", label, data->sources);
+  readPlausibilityAccept(*data);
   return Config(data);
 }
 

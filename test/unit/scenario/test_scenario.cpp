@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 
 #include "railvib/common/config.hpp"
 #include "railvib/common/machine.hpp"
+#include "railvib/common/plausibility.hpp"
 #include "railvib/scenario/scenario.hpp"
 
 namespace fs = std::filesystem;
@@ -306,4 +308,76 @@ TEST(Scenario, AMeasuredProfileIsReadAndCheckedAtConfigTime) {
   EXPECT_NE(with_profile("x_m,z_m\n-10,0\n0,5\n10,0\n").find("limits.unevenness_m"), std::string::npos);
   EXPECT_NE(with_profile("x_m,z_m\n-10,0\n-20,0\n").find("must be greater"), std::string::npos);
   fs::remove_all(dir);
+}
+
+// Unit slips, generated over every key of the CI scenario that holds a physical quantity with a
+// typical range (railvib/common/plausibility.hpp): its value times each factor a wrong unit gives
+// (g/cm^3 for kg/m^3, MN/m for N/m, km/h for m/s, mm for m...) is refused naming the key, the
+// typical range and plausibility.accept when it leaves that range; listed under plausibility.accept,
+// the same value is no longer refused for being atypical.
+TEST(ScenarioFuzz, EveryUnitSlipOutsideTheTypicalRangeIsRefusedUnlessAccepted) {
+  const YAML::Node tree = ciTree();
+  std::vector<Leaf> leaves;
+  collect(tree, Leaf{}, leaves, false);
+  size_t slips = 0, accepted = 0, keys = 0, seen = 0;
+  const size_t stride = fuzzStride();
+  for (const Leaf& leaf : leaves) {
+    if (inactive(leaf.path) || !isNumber(leaf.value)) continue;
+    const railvib::PlausibilityRule* rule = railvib::plausibilityRuleFor(leaf.path);
+    if (!rule) continue;
+    const double value = leaf.value.as<double>();
+    if (value == 0.0) continue;
+    ASSERT_TRUE(railvib::isTypical(*rule, value)) << leaf.path << " = " << value << " in the shipped scenario";
+    ++keys;
+    // Per key the nearest slip below and above that leaves the typical range (unit factors 1e3 apart,
+    // and km/h's 3.6).
+    std::vector<double> factors;
+    for (const auto& side :
+         {std::vector<double>{1.0 / 3.6, 1e-3, 1e-6, 1e-9}, std::vector<double>{3.6, 1e3, 1e6, 1e9}}) {
+      for (const double f : side) {
+        if (!railvib::isTypical(*rule, value * f)) {
+          factors.push_back(f);
+          break;
+        }
+      }
+    }
+    for (const double factor : factors) {
+      const double slipped = value * factor;
+      if (seen++ % stride != 0) continue;
+      std::ostringstream text;
+      text.precision(17);
+      text << slipped;
+      YAML::Node copy = YAML::Clone(tree);
+      at(copy, leaf, leaf.keys.size() - 1)[leaf.keys.back()] = YAML::Load(text.str());
+      const std::string message = verdictOfText(emit(copy));
+      ++slips;
+      EXPECT_NE(message.find(leaf.path), std::string::npos) << leaf.path << " = " << slipped << ": " << message;
+      // Refused by its own allowed range first, or else as atypical, with the way out.
+      if (message.find("typical range") != std::string::npos) {
+        EXPECT_NE(message.find("plausibility.accept"), std::string::npos) << message;
+        copy["plausibility"]["accept"].push_back(leaf.path);
+        const std::string again = verdictOfText(emit(copy));
+        EXPECT_EQ(again.find(leaf.path + " = " + text.str() + ": outside the typical range"), std::string::npos)
+            << "accepted, still refused as atypical: " << again;
+        ++accepted;
+      } else {  // its allowed range, or the magnitude no scenario value reaches
+        EXPECT_TRUE(message.find("range") != std::string::npos || message.find("magnitude") != std::string::npos)
+            << leaf.path << " = " << slipped << ": " << message;
+      }
+    }
+  }
+  std::printf("unit slips: %zu keys with a typical range, %zu slipped values refused, %zu of them as atypical\n", keys,
+              slips, accepted);
+  EXPECT_GT(keys, 30u);
+  EXPECT_GT(slips, 60u / stride);
+  EXPECT_GT(accepted, 30u / stride);
+}
+
+TEST(ScenarioFuzz, PlausibilityAcceptIsAListOfKeyPaths) {
+  for (const char* bad : {"plausibility=3", "plausibility={accept: 3}", "plausibility={accept: [{a: 1}]}",
+                          "plausibility={allow: [simulation.speed_m_s]}"}) {
+    const std::string message = verdictOf("haren_ci.yaml", {bad});
+    EXPECT_NE(message.find("plausibility"), std::string::npos) << bad << ": " << message;
+  }
+  EXPECT_EQ(verdictOf("haren_ci.yaml", {"plausibility={accept: [simulation.speed_m_s]}"}), "");
 }
