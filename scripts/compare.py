@@ -3,6 +3,15 @@
 (paper Figs. 15, 16).
 
 usage: ./railvib compare BAG_A BAG_B [OUTDIR] [--at T ...] [--window S] [--config FILE] [--set key=value ...]
+       ./railvib compare MEASURED.csv BAG [OUTDIR] --sensor NAME [--axes X,Y,Z] [--offset-s T]
+
+A measured record (the velocity CSV of `./railvib import`: t_s and channels in m/s) against one sensor of a
+run: --sensor names the run's sensor it was measured at; --axes the record's columns for x, y, z (frame
+track; '-' for an axis not measured; default: three channels are x, y, z, one channel is z); the record is
+resampled to the run's rate and shifted in time to the lag of the largest cross-correlation of v_z
+(--offset-s T: the record's t = 0 is the run's t = T instead). OUTDIR gets sensors.png (both records: v_z,
+its Fourier transform, KB_F(t)), compare.md / compare.json with PPV, KB_Fmax, dominant frequency and the
+one-third-octave levels of v_z per band with the difference simulated - measured (dB).
 
 Any two runs (e.g. two speeds, CLM vs Winkler, a study's runs): when either bag has no house, OUTDIR
 (default: BAG_B without .bag + "_vs_" + BAG_A's name) gets
@@ -102,8 +111,80 @@ class SensorRun:
         return all(f in self.sensors for f in FLOORS)
 
 
-def compare_sensors(a, b, name_a, name_b, outdir):
-    """Each common sensor of runs a and b: figure, Markdown table and JSON of the metric differences."""
+class MeasuredRun:
+    """A measured velocity record (./railvib import's CSV) as one sensor of a run: resampled to the run's
+    rate, its axes mapped to x, y, z, and placed in the run's time (see the module's docstring)."""
+
+    def __init__(self, path, sensor, run, axes=None, offset_s=None):
+        from fractions import Fraction
+        from scipy import signal
+        path = pathlib.Path(path)
+        if sensor not in run.sensors:
+            die(f"--sensor {sensor}: the run has no such sensor ({', '.join(run.sensors)})")
+        try:
+            import measured_record
+            rate, channels = measured_record.read_csv(path, time_column="t_s")
+        except measured_record.RecordError as e:
+            die(f"{e} (a measured record is the velocity CSV of ./railvib import)")
+        names_ = list(channels)
+        if axes is None:
+            axes = names_ if len(names_) == 3 else (["-", "-", names_[0]] if len(names_) == 1 else None)
+            if axes is None:
+                die(f"{path}: {len(names_)} channels ({', '.join(names_)}): say which is x, y, z with --axes")
+        if len(axes) != 3:
+            die(f"--axes {','.join(axes)}: three names (x, y, z), '-' for an axis not measured")
+        for c in axes:
+            if c != "-" and c not in channels:
+                die(f"--axes: {path} has no channel '{c}' ({', '.join(names_)})")
+        if axes[2] == "-":
+            die("--axes: the vertical (z) channel is needed (the comparison aligns and reads v_z)")
+        self.axes = axes
+        n = len(channels[axes[2]])
+        raw = np.column_stack([channels[c] if c != "-" else np.zeros(n) for c in axes])
+        if not np.all(np.abs(raw) <= 10.0):
+            die(f"{path}: a velocity beyond 10 m/s: not a velocity CSV in m/s")
+        ratio = Fraction(1.0 / (run.dt * rate)).limit_denominator(1000)
+        if abs(float(ratio) * rate * run.dt - 1.0) > 1e-6:
+            die(f"{path}: its rate {rate:g} Hz is no simple ratio of the run's {1 / run.dt:g} Hz")
+        v = signal.resample_poly(raw, ratio.numerator, ratio.denominator, axis=0) if ratio != 1 else raw
+        self.dt = run.dt
+        if offset_s is None:
+            # The lag (in the run's samples) at which the record's v_z best matches the run's.
+            sim = run.v[:, run.sensors.index(sensor), 2]
+            corr = signal.correlate(sim, v[:, 2], mode="full", method="fft")
+            lag = int(np.argmax(corr)) - (len(v) - 1)
+            offset_s = lag * self.dt
+            self.alignment = f"shifted by {offset_s:+.4f} s (largest cross-correlation of v_z)"
+        else:
+            if not np.isfinite(offset_s):
+                die(f"--offset-s {offset_s}: not a number")
+            offset_s = round(offset_s / self.dt) * self.dt  # on the run's sample grid
+            self.alignment = f"shifted by {offset_s:+.4f} s (--offset-s, to the run's nearest sample)"
+        self.offset_s = offset_s
+        self.t = offset_s + np.arange(len(v)) * self.dt
+        self.v = v[:, None, :]
+        self.sensors = [sensor]
+        self.mesh_f_max_hz = None
+        self.wheels = []
+
+
+def level_differences(outdir, a, b, sensor, label_a, label_b):
+    """One-third-octave levels of v_z of one sensor in a and b, and b - a per band (dB re 1e-9 m/s)."""
+    la = metrics(a.t, a.v[:, a.sensors.index(sensor), :], outdir, f"{sensor}_bands_a")[2]
+    lb = metrics(b.t, b.v[:, b.sensors.index(sensor), :], outdir, f"{sensor}_bands_b")[2]
+    lines = ["", f"One-third-octave levels of v_z at {sensor} (dB re 1e-9 m/s):", "",
+             f"| band [Hz] | {label_a} | {label_b} | {label_b} - {label_a} [dB] |", "|---|---|---|---|"]
+    bands = []
+    for f in sorted(la):
+        if f in lb:
+            lines.append(f"| {f:g} | {la[f]:.1f} | {lb[f]:.1f} | {lb[f] - la[f]:+.1f} |")
+            bands.append({"nominal_hz": f, "a_db": la[f], "b_db": lb[f], "difference_db": lb[f] - la[f]})
+    return lines, bands
+
+
+def compare_sensors(a, b, name_a, name_b, outdir, measured=None):
+    """Each common sensor of runs a and b: figure, Markdown table and JSON of the metric differences
+    (MEASURED: a is a measured record, and the levels per band are given as simulated - measured)."""
     common = [s for s in a.sensors if s in b.sensors]
     if not common:
         die(f"the runs have no sensor in common ({', '.join(a.sensors)} / {', '.join(b.sensors)})")
@@ -164,10 +245,19 @@ def compare_sensors(a, b, name_a, name_b, outdir):
                          f"| {high / 1e3:.2f} | {high_b / 1e3:.2f} | {high_b / high:.3f} |")
         if not wheels:
             lines.append("(no wheel of the same name in both runs)")
+    bands = []
+    if measured is not None:
+        lines[0] = f"# railvib: the run `{name_b}` (B) against the measured record `{name_a}` (A)"
+        lines += ["", f"The measured record: columns {', '.join(a.axes)} as x, y, z; resampled to "
+                      f"{1 / a.dt:g} Hz and {a.alignment}."]
+        band_lines, bands = level_differences(outdir, a, b, common[0], "measured", "simulated")
+        lines += band_lines
     lines += ["", "![sensors](sensors.png)"]
     (outdir / "compare.md").write_text("\n".join(lines) + "\n")
     (outdir / "compare.json").write_text(json.dumps({"bag_a": name_a, "bag_b": name_b, "figures": ["sensors.png"],
-                                                     "sensors": rows, "contact_forces": wheels}, indent=1))
+                                                     "sensors": rows, "contact_forces": wheels,
+                                                     "bands_z": bands,
+                                                     "measured_offset_s": getattr(a, "offset_s", None)}, indent=1))
     print(f"railvib compare: {outdir / 'compare.md'} (sensors of two runs)")
     return 0
 
@@ -355,7 +445,32 @@ def main(argv):
     ap.add_argument("--window", type=float, default=0.3, help="animation length around the snapshot times (s)")
     ap.add_argument("--config", help="scenario of the runs (default: the tool's, config/haren.yaml)")
     ap.add_argument("--set", action="append", default=[], help="the runs' common overrides, key=value")
+    ap.add_argument("--sensor", help="a measured record against this sensor of the run")
+    ap.add_argument("--axes", help="the measured record's columns for x,y,z ('-': not measured)")
+    ap.add_argument("--offset-s", type=float, help="the run's time of the measured record's t = 0 (s)")
     a = ap.parse_args(argv[1:])
+    if a.free_bag.endswith(".csv") or a.sensor:
+        # A measured record (first) against a run (second).
+        if not a.free_bag.endswith(".csv") or not a.sensor:
+            die("a measured record goes first, as ./railvib import's CSV, with --sensor NAME of the run")
+        if not pathlib.Path(a.house_bag).exists():
+            die(f"no such bag: {a.house_bag}")
+        run = SensorRun(a.house_bag)
+        measured = MeasuredRun(a.free_bag, a.sensor, run, a.axes.split(",") if a.axes else None, a.offset_s)
+        bag = pathlib.Path(a.house_bag)
+        outdir = pathlib.Path(a.outdir) if a.outdir else bag.with_name(bag.stem + "_vs_measured")
+        outdir.mkdir(parents=True, exist_ok=True)
+        run.sensors, run.v = [a.sensor], run.v[:, [run.sensors.index(a.sensor)], :]
+        # Both over the time they share: levels and KB_F of records of different lengths would differ
+        # by their durations alone.
+        t0, t1 = max(run.t[0], measured.t[0]), min(run.t[-1], measured.t[-1])
+        if t1 - t0 < 1.0:
+            die(f"the record and the run share {max(t1 - t0, 0.0):.3f} s once aligned ({measured.alignment}); "
+                "at least 1 s is needed")
+        for r in (run, measured):
+            keep = (r.t >= t0 - 0.5 * run.dt) & (r.t <= t1 + 0.5 * run.dt)
+            r.t, r.v = r.t[keep], r.v[keep]
+        return compare_sensors(measured, run, pathlib.Path(a.free_bag).name, bag.name, outdir, measured=True)
     for p in (a.free_bag, a.house_bag):
         if not pathlib.Path(p).exists():
             die(f"no such bag: {p}")

@@ -345,6 +345,41 @@ class Compare(unittest.TestCase):
         self.assertAlmostEqual(result["sensors"]["ground_2m"]["b"]["ppv_z_mm_s"] /
                                result["sensors"]["ground_2m"]["a"]["ppv_z_mm_s"], 0.5, places=9)
 
+    def test_a_measured_record_is_aligned_and_compared_band_by_band(self):
+        # The run's ground_2m at 1000 Hz; the "measured" record: half of it, at 2000 Hz, starting 0.3 s into
+        # the run. Aligned by cross-correlation, the run is twice the record: +6.02 dB in every loud band.
+        run = house_bag(WORK / "cmp_meas_run.bag", 1.0, with_house=False)
+        fs = 2000.0
+        t = np.arange(0.0, 1.5, 1.0 / fs) + 0.3
+        wave = np.where(t < 0.5, 0.0, 1e-3 * np.exp(-(t - 0.5) / 0.05) * np.sin(2 * np.pi * 20 * (t - 0.5)))
+        record = WORK / "measured_velocity.csv"
+        np.savetxt(record, np.c_[t - 0.3, 0.5 * wave], delimiter=",", header="t_s,vz", comments="", fmt="%.12g")
+        out = subprocess.run([sys.executable, str(SCRIPTS / "compare.py"), str(record), str(run), str(WORK / "cmp_meas"),
+                              "--sensor", "ground_2m"], capture_output=True, text=True)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        result = json.loads((WORK / "cmp_meas" / "compare.json").read_text())
+        self.assertAlmostEqual(result["measured_offset_s"], 0.3, delta=0.0011)
+        r = result["sensors"]["ground_2m"]
+        self.assertAlmostEqual(r["b"]["ppv_z_mm_s"] / r["a"]["ppv_z_mm_s"], 2.0, delta=0.02)
+        self.assertAlmostEqual(r["b"]["kb_fmax"] / r["a"]["kb_fmax"], 2.0, delta=0.02)
+        loud = [b for b in result["bands_z"] if b["a_db"] > 40.0]
+        self.assertGreaterEqual(len(loud), 5)
+        for b in loud:
+            self.assertAlmostEqual(b["difference_db"], 6.02, delta=0.2, msg=b)
+        md = (WORK / "cmp_meas" / "compare.md").read_text()
+        self.assertIn("simulated - measured [dB]", md)
+        self.assertIn("largest cross-correlation of v_z", md)
+        # Refused with the reason: no such sensor; a record that is not a velocity CSV; no overlap.
+        for first, options, message in ((record, ["--sensor", "attic"], "the run has no such sensor"),
+                                        (run, ["--sensor", "ground_2m"], "a measured record goes first"),
+                                        (record, ["--sensor", "ground_2m", "--offset-s", "5"], "at least 1 s is needed")):
+            args = [first, run, WORK / "cmp_meas_bad"] + options
+            out = subprocess.run([sys.executable, str(SCRIPTS / "compare.py")] + [str(x) for x in args],
+                                 capture_output=True, text=True)
+            self.assertNotEqual(out.returncode, 0, args)
+            self.assertIn(message, out.stderr, args)
+            self.assertNotIn("Traceback", out.stderr, args)
+
     def test_a_bag_without_sensors_is_refused(self):
         loud = house_bag(WORK / "cmp_loud2.bag", 1.0, with_house=False)
         bare = track_bag(WORK / "cmp_track.bag", [contact(0, 10, True)], [loads(0, 10, True)])
