@@ -110,6 +110,16 @@ def _check_stream(bag, topic, result):
             return
         period = m.sample_period_s
         points = getattr(m, count_field)
+        if points < 1 or (last is not None and points != getattr(last, count_field)):
+            result.refused = (f"{topic}: block at sample {m.first_sample_index} has {count_field} = {points}"
+                              + (f", not {getattr(last, count_field)} as before" if last is not None else
+                                 ", not at least 1"))
+            return
+        listed = getattr(m, "sensor_names", None)
+        if listed is not None and len(listed) != points:
+            result.refused = (f"{topic}: block at sample {m.first_sample_index} names {len(listed)} sensors for "
+                              f"{count_field} = {points}")
+            return
         for field, per_point_spec in arrays:
             values = getattr(m, field)
             per_point = getattr(m, per_point_spec) if isinstance(per_point_spec, str) else per_point_spec
@@ -130,6 +140,9 @@ def _check_stream(bag, topic, result):
         last = m
     if blocks == 0:
         result.findings.append(f"{topic}: no block recorded (the stream never started)")
+        result.incomplete.append(topic)
+    elif expected_index == 0:
+        result.findings.append(f"{topic}: {blocks} block(s) without a sample")
         result.incomplete.append(topic)
     elif not last.end_of_stream:
         result.findings.append(f"{topic}: stops at sample {expected_index} without its end_of_stream block")

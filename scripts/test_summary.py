@@ -21,7 +21,7 @@ UNIT_DOMAINS = ["common", "io", "signal", "track", "vehicle", "soil", "building"
                 "scenario"]
 EXPECTED_SUITES = ([f"gtest-{d}" for d in UNIT_DOMAINS]
                    + ["gtest-soil_mpi", "rostest-track", "rostest-haren", "scenario-checks", "netns-hosts", "node-fuzz",
-                      "robustness-cases", "tool-commands", "script-tests", "export-tests", "monitor-tests"])
+                      "robustness-cases", "tool-commands", "script-tests", "export-tests", "monitor-tests", "property-tests"])
 # The sanitizer build (./railvib sanitize): the unit tests and the node-level fuzz.
 # (test_coupling's Craig-Bampton reductions are left out: minutes under the sanitizers; the
 # soil and building tests it builds on are in.)

@@ -55,7 +55,14 @@ int metrics(const std::vector<std::string>& args) {
   if (!p.parse(args)) return 0;
   if (!p.has("csv") || !p.has("column")) throw ArgError("metrics: --csv and --column are required");
   const io::CsvTable table = io::readCsv(p.get("csv"));
-  if (table.rows.size() < 2) throw std::runtime_error("metrics: the record needs at least 2 samples");
+  // KB_F's running rms settles over a few of its 0.125 s time constants: a shorter record has no metric.
+  constexpr size_t kMinSamples = 64;
+  constexpr double kMinDurationS = 0.5;
+  if (table.rows.size() < kMinSamples) {
+    throw std::runtime_error("metrics: " + p.get("csv") + ": " + std::to_string(table.rows.size()) +
+                             " samples: too short for the metrics (at least " + std::to_string(kMinSamples) +
+                             " samples over " + formatValue(kMinDurationS) + " s)");
+  }
   const auto names = splitList(p.get("column"));
   if (names.empty()) throw ArgError("metrics: --column is empty");
   const std::string unit = p.get("unit");
@@ -69,6 +76,11 @@ int metrics(const std::vector<std::string>& args) {
   } else {
     const double dt = io::uniformStep(table, table.column(p.get("time-column")));
     fs = 1.0 / dt;
+  }
+  if (static_cast<double>(table.rows.size()) / fs < kMinDurationS) {
+    throw std::runtime_error("metrics: " + p.get("csv") + ": " + std::to_string(table.rows.size()) + " samples at " +
+                             formatValue(fs) + " Hz: " + formatValue(table.rows.size() / fs) +
+                             " s, too short for the metrics (at least " + formatValue(kMinDurationS) + " s)");
   }
 
   std::vector<std::vector<double>> comps;

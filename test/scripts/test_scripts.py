@@ -112,7 +112,7 @@ class TestSummary(unittest.TestCase):
         for domain in registered:
             if list((ROOT / "test" / "unit" / domain).glob("*.cpp")):
                 self.assertIn(domain, test_summary.UNIT_DOMAINS, f"test/unit/{domain} is not an expected suite")
-        for stem in ("scenario-checks", "node-fuzz", "robustness-cases", "tool-commands", "script-tests", "export-tests", "monitor-tests"):
+        for stem in ("scenario-checks", "node-fuzz", "robustness-cases", "tool-commands", "script-tests", "export-tests", "monitor-tests", "property-tests"):
             self.assertIn(stem, cmake, f"{stem} is expected but CMakeLists.txt does not write it")
 
 
