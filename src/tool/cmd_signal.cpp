@@ -55,9 +55,9 @@ int metrics(const std::vector<std::string>& args) {
   if (!p.parse(args)) return 0;
   if (!p.has("csv") || !p.has("column")) throw ArgError("metrics: --csv and --column are required");
   const io::CsvTable table = io::readCsv(p.get("csv"));
-  // KB_F's running rms settles over a few of its 0.125 s time constants: a shorter record has no metric.
+  // KB_F's running rms needs two of its 0.125 s time constants to settle (86 %): a shorter record has no metric.
   constexpr size_t kMinSamples = 64;
-  constexpr double kMinDurationS = 0.5;
+  constexpr double kMinDurationS = 0.25;
   if (table.rows.size() < kMinSamples) {
     throw std::runtime_error("metrics: " + p.get("csv") + ": " + std::to_string(table.rows.size()) +
                              " samples: too short for the metrics (at least " + std::to_string(kMinSamples) +
