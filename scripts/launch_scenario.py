@@ -172,6 +172,25 @@ def end_with_the_parent():
         os.kill(os.getpid(), signal.SIGTERM)
 
 
+def conflicting_arguments(launch_args):
+    """Why the launch arguments cannot make one run (None if they can): values that the launch file turns
+    into processes (soil_ranks) and pairs that contradict each other."""
+    given = dict(a.split(":=", 1) for a in launch_args)
+    ranks = given.get("soil_ranks")
+    if ranks is not None and (not ranks.strip().isdigit() or not 1 <= int(ranks) <= 1024):
+        return f"soil_ranks:={ranks}: a whole number of MPI ranks from 1 to 1024"
+    building = given.get("building", "true").strip().lower()
+    if building not in ("true", "false", "1", "0"):
+        return f"building:={given['building']}: true or false"
+    if given.get("coupling", "").strip() == "two_way" and building in ("false", "0"):
+        return ("coupling:=two_way with building:=false: two-way coupling is the house acting on the soil; "
+                "run with the house (building:=true) or one_way")
+    part = given.get("part")
+    if part is not None and part not in ("all", "upstream", "downstream"):
+        return f"part:={part}: all, upstream or downstream"
+    return None
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-p", "--port", type=int, default=None, help="master port (a new master if none runs)")
@@ -185,6 +204,10 @@ def main(argv):
         print(f"railvib: launch failed: {e}", file=sys.stderr)
         return 2
     launch_args = [a for a in args if ":=" in a]
+    conflict = conflicting_arguments(launch_args)
+    if conflict:
+        print(f"railvib: launch failed: {conflict}", file=sys.stderr)
+        return 2
     uuid = roslaunch.rlutil.get_or_generate_uuid(None, False)
     roslaunch.configure_logging(uuid)
     watch = Watch()

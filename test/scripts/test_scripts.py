@@ -389,6 +389,27 @@ class Compare(unittest.TestCase):
         self.assertNotIn("Traceback", out.stderr)
 
 
+class LaunchArguments(unittest.TestCase):
+    def test_conflicting_or_impossible_arguments_are_refused_before_anything_starts(self):
+        refused = {("soil_ranks:=0",): "soil_ranks:=0: a whole number of MPI ranks",
+                   ("soil_ranks:=two",): "soil_ranks:=two",
+                   ("soil_ranks:=-1",): "soil_ranks:=-1",
+                   ("coupling:=two_way", "building:=false"): "two-way coupling is the house acting on the soil",
+                   ("building:=maybe",): "building:=maybe: true or false",
+                   ("part:=middle",): "part:=middle"}
+        for args, message in refused.items():
+            self.assertIn(message, launch_scenario.conflicting_arguments(list(args)) or "", args)
+        for args in (["soil_ranks:=2"], ["coupling:=one_way", "building:=false"], ["coupling:=two_way"], [],
+                     ["building:=false"], ["part:=upstream"]):
+            self.assertIsNone(launch_scenario.conflicting_arguments(args), args)
+        # Through the launcher: exit 2 and the reason, no master started.
+        r = subprocess.run([sys.executable, str(SCRIPTS / "launch_scenario.py"), "railvib", "haren.launch",
+                            "soil_ranks:=0"], capture_output=True, text=True, timeout=60)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("railvib: launch failed: soil_ranks:=0", r.stderr)
+        self.assertNotIn("started", r.stdout)
+
+
 class LaunchVerdict(unittest.TestCase):
     REQUIRED = {"vehicle", "track", "soil", "building", "virtual_sensor", "recorder", "master"}
 
@@ -877,7 +898,7 @@ class LauncherTeardown(unittest.TestCase):
 def write_junit(result, path):
     suite = ET.Element("testsuite", name="script_tests", tests=str(result.testsRun))
     failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
+    for cls in (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
         for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
             case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
             if test.id() in failed:
@@ -888,7 +909,7 @@ def write_junit(result, path):
 
 if __name__ == "__main__":
     suite = unittest.TestSuite()
-    for cls in (TestSummary, BagCheck, Compare, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
+    for cls in (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
