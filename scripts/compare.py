@@ -59,6 +59,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_yaml  # noqa: E402
+from railvib_paths import OutputDirError, output_dir  # noqa: E402
 import report  # noqa: E402  (stream reading, spectra and metrics: one place)
 
 try:
@@ -459,7 +460,10 @@ def main(argv):
         measured = MeasuredRun(a.free_bag, a.sensor, run, a.axes.split(",") if a.axes else None, a.offset_s)
         bag = pathlib.Path(a.house_bag)
         outdir = pathlib.Path(a.outdir) if a.outdir else bag.with_name(bag.stem + "_vs_measured")
-        outdir.mkdir(parents=True, exist_ok=True)
+        try:
+            output_dir(outdir)
+        except OutputDirError as e:
+            die(str(e))
         run.sensors, run.v = [a.sensor], run.v[:, [run.sensors.index(a.sensor)], :]
         # Both over the time they share: levels and KB_F of records of different lengths would differ
         # by their durations alone.
@@ -489,10 +493,16 @@ def main(argv):
         # Not a one-way / two-way pair (no house, or the same coupling twice): the sensors side by side.
         outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(
             house_bag.stem + "_vs_" + pathlib.Path(a.free_bag).stem)
-        outdir.mkdir(parents=True, exist_ok=True)
+        try:
+            output_dir(outdir)
+        except OutputDirError as e:
+            die(str(e))
         return compare_sensors(run_a, run_b, pathlib.Path(a.free_bag).name, house_bag.name, outdir)
     outdir = pathlib.Path(a.outdir) if a.outdir else house_bag.with_name(house_bag.stem + "_vs_free_field")
-    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        output_dir(outdir)
+    except OutputDirError as e:
+        die(str(e))
     depth = foundation_depth_m(a.config, a.set)
     free, house = Run(a.free_bag), Run(a.house_bag)
     if abs(free.dt - house.dt) > 1e-12:

@@ -35,7 +35,7 @@ import numpy as np
 import bag_check
 import railvib_names as names
 import report
-from railvib_paths import find_railvib_tool
+from railvib_paths import find_railvib_tool, OutputDirError, output_dir
 
 try:
     import rosbag
@@ -295,7 +295,10 @@ def main(argv):
         die(checked.refused)
     for finding in checked.findings:
         print("railvib export: " + finding, file=sys.stderr)
-    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        output_dir(outdir)
+    except OutputDirError as e:
+        die(str(e))
     try:
         bag = rosbag.Bag(str(bag_path))
     except Exception as e:  # rosbag raises several types for truncated or corrupt files

@@ -44,7 +44,7 @@ import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_yaml  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
-from railvib_paths import find_railvib_tool  # noqa: E402
+from railvib_paths import find_railvib_tool, OutputDirError, output_dir  # noqa: E402
 
 try:
     import rosbag
@@ -538,7 +538,10 @@ def main(argv):
     for finding in checked.findings:
         print("railvib report: " + finding, file=sys.stderr)
     INCOMPLETE.extend(checked.incomplete)
-    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        output_dir(outdir)
+    except OutputDirError as e:
+        die(str(e))
     try:
         bag = rosbag.Bag(str(bag_path))
     except Exception as e:  # rosbag raises several types for truncated or corrupt files

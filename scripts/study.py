@@ -56,6 +56,7 @@ import mitigation  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
 import railvib_yaml  # noqa: E402
+from railvib_paths import OutputDirError, output_dir  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 
 try:
@@ -443,7 +444,10 @@ def main(argv):
     if options.dry_run:
         return 0
     options.outdir = pathlib.Path(options.outdir or ROOT / "bags" / time.strftime("study_%Y%m%d_%H%M%S"))
-    options.outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        output_dir(options.outdir)
+    except OutputDirError as e:
+        die(str(e))
     options.runner = options.runner.split()
     (options.outdir / "study.yaml").write_text(yaml.safe_dump({**spec, "scenario": options.scenario,
                                                               "config": str(base)}, sort_keys=False))

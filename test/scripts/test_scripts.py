@@ -380,6 +380,19 @@ class Compare(unittest.TestCase):
             self.assertIn(message, out.stderr, args)
             self.assertNotIn("Traceback", out.stderr, args)
 
+    def test_an_output_path_that_is_a_file_is_refused_by_every_script(self):
+        bag = house_bag(WORK / "cmp_outfile.bag", 1.0, with_house=False)
+        a_file = WORK / "not_a_directory"
+        a_file.write_text("x")
+        for script, args in (("report.py", [bag, a_file]), ("export.py", [bag, a_file]),
+                             ("compare.py", [bag, bag, a_file]), ("study.py", ["--outdir", a_file, "--vary", "speed=1,2"])):
+            r = subprocess.run([sys.executable, str(SCRIPTS / script)] + [str(x) for x in args], capture_output=True,
+                               text=True, timeout=120)
+            self.assertNotEqual(r.returncode, 0, script)
+            self.assertIn("exists and is not a directory", r.stderr, script)
+            self.assertNotIn("Traceback", r.stderr, script)
+            self.assertEqual(a_file.read_text(), "x", script)
+
     def test_a_bag_without_sensors_is_refused(self):
         loud = house_bag(WORK / "cmp_loud2.bag", 1.0, with_house=False)
         bare = track_bag(WORK / "cmp_track.bag", [contact(0, 10, True)], [loads(0, 10, True)])
