@@ -71,7 +71,15 @@ std::string ArgParser::get(const std::string& name) const {
   return it->second.default_value;
 }
 
-double ArgParser::getDouble(const std::string& name) const {
+namespace {
+std::string rangeText(double lo, double hi) {
+  std::ostringstream s;
+  s << "[" << lo << ", " << hi << "]";
+  return s.str();
+}
+}  // namespace
+
+double ArgParser::getDouble(const std::string& name, double lo, double hi) const {
   const std::string s = get(name);
   size_t used = 0;
   double v = 0.0;
@@ -80,12 +88,14 @@ double ArgParser::getDouble(const std::string& name) const {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != s.size() || !std::isfinite(v))
-    throw ArgError(command_ + ": --" + name + " = '" + s + "' is not a number");
+  if (used != s.size() || s.empty() || !std::isfinite(v))
+    throw ArgError(command_ + ": --" + name + " = '" + s + "' is not a finite number");
+  if (!(v >= lo && v <= hi))
+    throw ArgError(command_ + ": --" + name + " = " + s + " is outside its range " + rangeText(lo, hi));
   return v;
 }
 
-long ArgParser::getInt(const std::string& name) const {
+long ArgParser::getInt(const std::string& name, long lo, long hi) const {
   const std::string s = get(name);
   size_t used = 0;
   long v = 0;
@@ -94,7 +104,10 @@ long ArgParser::getInt(const std::string& name) const {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != s.size()) throw ArgError(command_ + ": --" + name + " = '" + s + "' is not an integer");
+  if (used != s.size() || s.empty()) throw ArgError(command_ + ": --" + name + " = '" + s + "' is not a whole number");
+  if (v < lo || v > hi)
+    throw ArgError(command_ + ": --" + name + " = " + s + " is outside its range [" + std::to_string(lo) + ", " +
+                   std::to_string(hi) + "]");
   return v;
 }
 

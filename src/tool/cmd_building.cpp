@@ -53,7 +53,7 @@ int runModes(const std::vector<std::string>& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const BuildingModel model(params);
   ModalOptions opt;
-  opt.fmax_hz = parser.getDouble("fmax");
+  opt.fmax_hz = parser.getDouble("fmax", 1e-3, 1e4);
   opt.fixed_base = !parser.isSet("free");
   const ModalResult res = modalAnalysis(model, opt);
   const double hand = handComputedMass(params);
@@ -152,10 +152,10 @@ int runTf(const std::vector<std::string>& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const BuildingModel model(params);
   TransferFunctionOptions opt;
-  opt.duration_s = parser.getDouble("duration");
-  opt.sample_period_s = parser.getDouble("dt");
-  opt.fmax_hz = parser.getDouble("fmax");
-  opt.df_hz = parser.getDouble("df");
+  opt.duration_s = parser.getDouble("duration", 1e-3, 3600.0);
+  opt.sample_period_s = parser.getDouble("dt", 1e-7, 1.0);
+  opt.fmax_hz = parser.getDouble("fmax", 1e-3, 1e4);
+  opt.df_hz = parser.getDouble("df", 1e-3, 1e3);
   const TransferFunctions tf = impulseTransferFunctions(model, opt);
   ModalOptions mo;
   mo.fmax_hz = opt.fmax_hz;
@@ -252,7 +252,7 @@ int runResponse(const std::vector<std::string>& args) {
   std::vector<std::string> out_cols{"time_s"};
   for (const auto& n : solver.outputColumnNames()) out_cols.push_back(n);
   io::CsvWriter csv(parser.get("out"), out_cols);
-  const size_t block = static_cast<size_t>(std::max(1L, parser.getInt("block")));
+  const size_t block = static_cast<size_t>(std::max(1L, parser.getInt("block", 1, 10000000)));
   Eigen::VectorXd peak = Eigen::VectorXd::Zero(3 * solver.responsePoints().size());
   for (size_t start = 0; start < in.rows.size(); start += block) {
     const size_t n = std::min(block, in.rows.size() - start);

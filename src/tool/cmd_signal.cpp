@@ -71,7 +71,7 @@ int metrics(const std::vector<std::string>& args) {
 
   double fs = 0.0;
   if (p.has("rate")) {
-    fs = p.getDouble("rate");
+    fs = p.getDouble("rate", 1.0, 1e7);
     if (!(fs > 0.0)) throw ArgError("metrics: --rate must be positive");
   } else {
     const double dt = io::uniformStep(table, table.column(p.get("time-column")));
@@ -105,7 +105,7 @@ int metrics(const std::vector<std::string>& args) {
   spec.fs_hz = fs;
   spec.third_octave_min_hz = range[0];
   spec.third_octave_max_hz = range[1];
-  spec.v_ref_m_s = p.getDouble("vref");
+  spec.v_ref_m_s = p.getDouble("vref", 1e-15, 1.0);
   const RecordMetrics r = evaluateRecord(comps, spec);
   const auto& s = r.summary;
   const double duration = static_cast<double>(comps.front().size()) / fs;
@@ -113,7 +113,7 @@ int metrics(const std::vector<std::string>& args) {
   const std::string period_name = p.get("period");
   if (period_name != "day" && period_name != "night") throw ArgError("metrics: --period must be day or night");
   const Din4150_2Period period = period_name == "day" ? Din4150_2Period::Day : Din4150_2Period::Night;
-  const double exposure = p.has("exposure-s") ? p.getDouble("exposure-s") : duration;
+  const double exposure = p.has("exposure-s") ? p.getDouble("exposure-s", 1e-3, 86400.0) : duration;
   double kb_ftm_max = 0.0;
   for (double v : r.kb_ftm) kb_ftm_max = std::max(kb_ftm_max, v);
   const double kb_ftr = kbFTr(kb_ftm_max, exposure, period);
@@ -123,7 +123,7 @@ int metrics(const std::vector<std::string>& args) {
   } catch (const std::invalid_argument& e) {
     throw ArgError(std::string("metrics: --kind: ") + e.what());
   }
-  const double resolved_option = p.getDouble("resolved-hz");
+  const double resolved_option = p.getDouble("resolved-hz", 0.0, 1e6);
   if (!(resolved_option >= 0.0 && resolved_option <= 1e6)) throw ArgError("metrics: --resolved-hz in [0, 1e6] Hz");
   const double resolved_hz = resolved_option > 0.0 ? resolved_option : std::numeric_limits<double>::infinity();
   // The same verdicts as the live sensors, with the rating KB_FTr the whole record gives.
@@ -216,7 +216,7 @@ int dinCheck(const std::vector<std::string>& args) {
   p.option("rate", "sample rate(s) of the digital filters (Hz), comma-separated", "500,1000,2000,8000");
   p.option("tolerance", "relative tolerance for pass", "0.02");
   if (!p.parse(args)) return 0;
-  const double tol = p.getDouble("tolerance");
+  const double tol = p.getDouble("tolerance", 1e-9, 1.0);
   json out;
   out["definition"] =
       "KB_F = steady mean of KB_F(t); KB_Fmax = maximum of its ripple (running rms of a sine oscillates at 2f)";
@@ -259,9 +259,9 @@ int decimatorCheck(const std::vector<std::string>& args) {
   p.option("channels", "channels for the cost measurement", "100");
   if (!p.parse(args)) return 0;
   DecimatorSpec spec;
-  spec.input_rate_hz = p.getDouble("input-rate");
-  spec.output_rate_hz = p.getDouble("output-rate");
-  spec.passband_fraction = p.getDouble("passband");
+  spec.input_rate_hz = p.getDouble("input-rate", 1.0, 1e7);
+  spec.output_rate_hz = p.getDouble("output-rate", 1.0, 1e7);
+  spec.passband_fraction = p.getDouble("passband", 1e-3, 0.5);
   const double fi = spec.input_rate_hz, fo = spec.output_rate_hz;
   Decimator d(spec, 1);
   double ripple = 0.0, stop = 0.0;
@@ -281,7 +281,7 @@ int decimatorCheck(const std::vector<std::string>& args) {
     align = std::max(align, std::abs(y[k] - std::sin(2.0 * kPi * fsine * a.outputTime(k))));
   }
   // Cost: one simulated second of `channels` channels, blocks of 1000 input frames.
-  const size_t nc = static_cast<size_t>(std::max(1L, p.getInt("channels")));
+  const size_t nc = static_cast<size_t>(std::max(1L, p.getInt("channels", 1, 10000)));
   Decimator c(spec, nc);
   const size_t block = 1000;
   std::vector<double> in(block * nc, 1.0), out;
@@ -316,8 +316,8 @@ int dinGuides(const std::vector<std::string>& args) {
   p.option("step-hz", "frequency step of the DIN 4150-3 curve (Hz)", "1");
   p.option("max-hz", "highest frequency of the DIN 4150-3 curve (Hz)", "100");
   if (!p.parse(args)) return 0;
-  const double step = p.getDouble("step-hz");
-  const double f_max = p.getDouble("max-hz");
+  const double step = p.getDouble("step-hz", 1e-3, 1e3);
+  const double f_max = p.getDouble("max-hz", 1e-3, 1e5);
   if (!(step > 0.0 && std::isfinite(step)) || !(f_max > 0.0 && f_max <= 1e4)) {
     throw std::invalid_argument("din-guides: --step-hz must be > 0 and --max-hz in (0, 1e4]");
   }

@@ -64,7 +64,7 @@ struct BenchArgs {
     for (double layer : list("layer")) {
       for (double n : list("exponent")) {
         for (double alpha : list("alpha")) {
-          cases.push_back(ReflectionCase::gradedLayer(layer, alpha, n, p.getInt("layer-bottom") != 0));
+          cases.push_back(ReflectionCase::gradedLayer(layer, alpha, n, p.getInt("layer-bottom", 0, 1) != 0));
         }
       }
     }
@@ -86,8 +86,8 @@ struct BenchArgs {
                 s.max_kappa = kappa;
                 s.alpha_1_s = alpha;
                 s.perpendicular_ratio = ratio;
-                s.bottom = p.getInt("pml-bottom") != 0;
-                s.outer_dashpots = p.getInt("pml-outer-dashpots") != 0;
+                s.bottom = p.getInt("pml-bottom", 0, 1) != 0;
+                s.outer_dashpots = p.getInt("pml-outer-dashpots", 0, 1) != 0;
                 cases.push_back(ReflectionCase::pml(s));
               }
             }
@@ -154,11 +154,11 @@ void benchDamping(const BenchArgs& a, json& out) {
 
 void benchThroughput(const BenchArgs& a, json& out) {
   ThroughputSpec spec;
-  spec.nx = static_cast<size_t>(a.p.getInt("nx"));
-  spec.ny = static_cast<size_t>(a.p.getInt("ny"));
-  spec.nz = static_cast<size_t>(a.p.getInt("nz"));
-  spec.steps = static_cast<int>(a.p.getInt("steps"));
-  spec.repeat = static_cast<int>(a.p.getInt("repeat"));
+  spec.nx = static_cast<size_t>(a.p.getInt("nx", 1, 1000));
+  spec.ny = static_cast<size_t>(a.p.getInt("ny", 1, 1000));
+  spec.nz = static_cast<size_t>(a.p.getInt("nz", 1, 1000));
+  spec.steps = static_cast<int>(a.p.getInt("steps", 1, 10000000));
+  spec.repeat = static_cast<int>(a.p.getInt("repeat", 1, 1000));
   spec.kernels.clear();
   std::stringstream kernels(a.p.get("kernel"));
   for (std::string item; std::getline(kernels, item, ',');) spec.kernels.push_back(kernelFromName(item));
@@ -274,7 +274,7 @@ void benchReflection(const BenchArgs& a, json& out) {
   std::vector<ReflectionCase> cases{ReflectionCase{}};  // the small box, Lysmer only
   a.addLayerCases(cases);
   for (const ReflectionCase& c : a.pmlCases()) cases.push_back(c);
-  const ReflectionResult r = runBoundaryReflection(a.p.getDouble("small-box"), cases);
+  const ReflectionResult r = runBoundaryReflection(a.p.getDouble("small-box", 1e-3, 1e3), cases);
   json rows = json::array();
   for (const ReflectionRow& row : r.rows) {
     json fields = absorberFields(row.absorber);
@@ -374,7 +374,7 @@ void writeLambCsv(const std::string& path, const LambResult& r) {
 void benchLamb(const BenchArgs& a, json& out) {
   LambSpec spec;
   spec.precision = a.precisions.front();
-  if (a.p.has("lamb-h") && !a.p.get("lamb-h").empty()) spec.h_m = a.p.getDouble("lamb-h");
+  if (a.p.has("lamb-h") && !a.p.get("lamb-h").empty()) spec.h_m = a.p.getDouble("lamb-h", 1e-3, 1e3);
   const LambResult r = runLamb(spec);
   json st = json::array();
   for (const auto& s : r.stations) {
@@ -411,11 +411,11 @@ void benchRanks(const BenchArgs& a, json& out) {
   RankScalingSpec spec;
   spec.mesh = buildMesh(sp.profile, sp.mesh);
   spec.options = sp.solver;
-  spec.options.threads = static_cast<int>(a.p.getInt("rank-threads"));
+  spec.options.threads = static_cast<int>(a.p.getInt("rank-threads", 0, 1024));
   if (spec.options.threads < 1) throw ArgError("soil-bench: --rank-threads must be at least 1");
   spec.options.precision = a.precisions.front();
-  spec.steps = static_cast<int>(a.p.getInt("steps"));
-  spec.repeat = static_cast<int>(a.p.getInt("repeat"));
+  spec.steps = static_cast<int>(a.p.getInt("steps", 1, 10000000));
+  spec.repeat = static_cast<int>(a.p.getInt("repeat", 1, 1000));
   const RankScalingResult r = runRankScaling(spec, comm);
   const StructuredMesh& m = spec.mesh;
   out["config"] = cfg.file();
@@ -479,7 +479,8 @@ void benchInclusions(const BenchArgs& a, json& out) {
         "soil-bench inclusions: the configuration has no soil.inclusions; give them with --set "
         "'soil.inclusions=[{name: trench, kind: void, x_m: [-15, 15], y_m: [3, 4], depth_m: [0, 4]}]'");
   }
-  const int steps = static_cast<int>(a.p.getInt("steps")), repeat = static_cast<int>(a.p.getInt("repeat"));
+  const int steps = static_cast<int>(a.p.getInt("steps", 1, 10000000)),
+            repeat = static_cast<int>(a.p.getInt("repeat", 1, 1000));
   if (steps < 1 || steps > 100000 || repeat < 1 || repeat > 1000) {
     throw ArgError("soil-bench inclusions: --steps in [1, 100000], --repeat in [1, 1000]");
   }
@@ -537,15 +538,15 @@ void benchInclusions(const BenchArgs& a, json& out) {
 // reduction ratio behind it per normalised depth, against the published field tests and charts.
 void benchTrench(const BenchArgs& a, json& out) {
   ScreeningSpec spec = defaultScreeningSpec();
-  spec.element_m = a.p.getDouble("screen-element");
+  spec.element_m = a.p.getDouble("screen-element", 1e-3, 10.0);
   if (!(spec.element_m >= 0.05 && spec.element_m <= 0.5))
     throw ArgError("soil-bench: --screen-element in [0.05, 0.5] m");
-  spec.zone_start_wavelengths = a.p.getDouble("screen-zone-start");
+  spec.zone_start_wavelengths = a.p.getDouble("screen-zone-start", 0.0, 100.0);
   if (!(spec.zone_start_wavelengths >= 0.0 && spec.zone_start_wavelengths <= 3.0)) {
     throw ArgError("soil-bench: --screen-zone-start in [0, 3] Rayleigh wavelengths");
   }
-  const double f_min = a.p.getDouble("screen-f-min");
-  const double f_max = a.p.getDouble("screen-f-max");
+  const double f_min = a.p.getDouble("screen-f-min", 1e-3, 1e4);
+  const double f_max = a.p.getDouble("screen-f-max", 1e-3, 1e4);
   if (!(f_min >= 25.0 && f_max <= 90.0 && f_min <= f_max)) {
     throw ArgError("soil-bench: --screen-f-min <= --screen-f-max, both in [25, 90] Hz");
   }
@@ -611,7 +612,7 @@ void benchTrench(const BenchArgs& a, json& out) {
 // them by leaving elements out (soil/calculix_peer.hpp).
 void benchVoidPeer(const BenchArgs& a, json& out) {
   PeerCase c = voidPeerCase();
-  c.duration_s = a.p.getDouble("peer-duration");
+  c.duration_s = a.p.getDouble("peer-duration", 1e-5, 10.0);
   if (!(c.duration_s >= 10.0 * c.dt_s && c.duration_s <= 1.0)) {
     throw ArgError("soil-bench: --peer-duration must lie in [1e-4, 1] s");
   }
@@ -792,8 +793,8 @@ int soilRun(const std::vector<std::string>& args) {
   const ConfigNode root = cfg.root();
   // The house's free-field receivers, as the soil node has them (its footprint is the building's input).
   const SoilParams params = loadSoilParams(root, coupling::houseReceivers(root, false));
-  const double duration =
-      p.getDouble("duration") <= 0.0 ? vehicle::loadPassageParams(root).duration_s : p.getDouble("duration");
+  const double duration = p.getDouble("duration", 0.0, 3600.0) <= 0.0 ? vehicle::loadPassageParams(root).duration_s
+                                                                      : p.getDouble("duration", 0.0, 3600.0);
 
   const io::CsvTable loads = io::readCsv(p.get("loads"));
   if (loads.columns.size() < 2 || loads.columns[0] != "t_s" || loads.rows.size() < 2) {

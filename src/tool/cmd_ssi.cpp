@@ -24,8 +24,8 @@ std::vector<double> numberList(const ArgParser& p, const std::string& key) {
 }
 
 // An option whose default is its case's spec default (one place for it): assigned only when given.
-void assignIfGiven(const ArgParser& p, const std::string& key, double& value) {
-  if (p.has(key) && !p.get(key).empty()) value = p.getDouble(key);
+void assignIfGiven(const ArgParser& p, const std::string& key, double& value, double lo, double hi) {
+  if (p.has(key) && !p.get(key).empty()) value = p.getDouble(key, lo, hi);
 }
 
 json materialJson(const Material& m) {
@@ -38,13 +38,13 @@ json materialJson(const Material& m) {
 
 FootingModelSpec footingSpec(const ArgParser& p, double h_m) {
   FootingModelSpec f;
-  f.material.poisson_ratio = p.getDouble("nu");
+  f.material.poisson_ratio = p.getDouble("nu", 0.0, 0.4999);
   // Keep Vs = 100 m/s and rho = 2000 kg/m3 whatever nu.
   f.material.young_modulus_pa = 2.0 * (1.0 + f.material.poisson_ratio) * 2000.0 * 100.0 * 100.0;
   f.half_width_m = 1.0;
   f.h_m = h_m;
   f.precision = p.get("precision") == "float" ? Precision::Float : Precision::Double;
-  f.threads = static_cast<int>(p.getInt("threads"));
+  f.threads = static_cast<int>(p.getInt("threads", 0, 1024));
   return f;
 }
 
@@ -60,7 +60,7 @@ json footingStatic(const ArgParser& p) {
   if (modes.empty()) throw ArgError("ssi-bench: --mode must be vertical, rocking or both");
   const std::vector<double> hs = numberList(p, "h"), boxes = numberList(p, "boxes");
   if (hs.size() < 2) throw ArgError("ssi-bench: footing-static needs two element sizes or more (--h)");
-  const double tol = p.getDouble("tolerance");
+  const double tol = p.getDouble("tolerance", 1e-12, 1.0);
   for (FootingMode fm : modes) {
     const bool vertical = fm == FootingMode::Vertical;
     json jm;
@@ -308,9 +308,9 @@ json kinematic(const ArgParser& p) {
   spec.y_min_m = sp.mesh.y_min_m;
   spec.y_max_m = sp.mesh.y_max_m;
   spec.depth_m = sp.mesh.depth_m;
-  spec.mass_fraction = p.getDouble("mass-fraction");
-  assignIfGiven(p, "duration", spec.duration_s);
-  assignIfGiven(p, "pulse", spec.pulse_s);
+  spec.mass_fraction = p.getDouble("mass-fraction", 0.0, 1.0);
+  assignIfGiven(p, "duration", spec.duration_s, 1e-4, 60.0);
+  assignIfGiven(p, "pulse", spec.pulse_s, 1e-5, 10.0);
   const KinematicResult r = runKinematic(spec);
   json bands = json::array();
   for (const KinematicBand& b : r.bands) {
@@ -349,12 +349,12 @@ json stiffSoil(const ArgParser& p) {
   coupling::StiffSoilSpec base;
   base.scenario_file = p.get("config");
   base.overrides = p.getAll("set");
-  assignIfGiven(p, "distance", base.front_wall_distance_m);
-  assignIfGiven(p, "duration", base.duration_s);
-  assignIfGiven(p, "pulse", base.pulse_s);
-  assignIfGiven(p, "margin", base.margin_m);
-  assignIfGiven(p, "depth", base.depth_m);
-  base.threads = static_cast<int>(p.getInt("threads"));
+  assignIfGiven(p, "distance", base.front_wall_distance_m, 0.0, 1e3);
+  assignIfGiven(p, "duration", base.duration_s, 1e-4, 60.0);
+  assignIfGiven(p, "pulse", base.pulse_s, 1e-5, 10.0);
+  assignIfGiven(p, "margin", base.margin_m, 0.0, 1e3);
+  assignIfGiven(p, "depth", base.depth_m, 0.0, 1e3);
+  base.threads = static_cast<int>(p.getInt("threads", 0, 1024));
   json runs = json::array();
   for (double vs : numberList(p, "vs")) {
     coupling::StiffSoilSpec spec = base;

@@ -49,10 +49,9 @@ std::vector<std::string> foundationOverride(const ArgParser& args) {
 /// Config with --set, then --foundation, applied.
 Config loadWithFoundation(const ArgParser& args) { return loadConfig(args, foundationOverride(args)); }
 
-double positiveOption(const ArgParser& args, const std::string& name) {
-  const double v = args.getDouble(name);
-  if (!(v > 0.0) || !std::isfinite(v)) throw ArgError("--" + name + " must be > 0");
-  return v;
+// A positive option within [lo, hi].
+double positiveOption(const ArgParser& args, const std::string& name, double lo, double hi) {
+  return args.getDouble(name, lo, hi);
 }
 
 // ------------------------------------------------------------------ receptance
@@ -99,8 +98,8 @@ int runReceptance(const std::vector<std::string>& argv) {
   const RailLoading loading = loadings.at(load_name);
   const std::string at = args.get("at");
   if (at != "midspan" && at != "sleeper") throw ArgError("--at must be midspan or sleeper");
-  const double fmin = positiveOption(args, "fmin"), fmax = positiveOption(args, "fmax"),
-               df = positiveOption(args, "df");
+  const double fmin = positiveOption(args, "fmin", 1e-3, 1e5), fmax = positiveOption(args, "fmax", 1e-3, 1e5),
+               df = positiveOption(args, "df", 1e-3, 1e3);
   if (fmax <= fmin) throw ArgError("--fmax must be greater than --fmin");
   if ((fmax - fmin) / df > 200000) throw ArgError("--df too small: more than 200000 frequencies");
   std::string vary = args.has("vary") ? args.get("vary") : "";
@@ -123,10 +122,10 @@ int runReceptance(const std::vector<std::string>& argv) {
     if (base.width != track::TrackWidth::Half)
       throw ArgError("--foundation fe_soil takes the half track (track.width: half)");
     soil::FootprintComplianceSpec spec;
-    if (args.has("soil-duration")) spec.duration_s = positiveOption(args, "soil-duration");
-    if (args.has("soil-pulse")) spec.pulse_s = positiveOption(args, "soil-pulse");
+    if (args.has("soil-duration")) spec.duration_s = positiveOption(args, "soil-duration", 1e-4, 60.0);
+    if (args.has("soil-pulse")) spec.pulse_s = positiveOption(args, "soil-pulse", 1e-5, 10.0);
     if (args.has("reach")) {
-      const double r = positiveOption(args, "reach");
+      const double r = positiveOption(args, "reach", 1e-3, 1e4);
       if (r != std::floor(r) || r > 1e6) throw ArgError("--reach must be a whole number of sleepers");
       reach = static_cast<size_t>(r);
     }
@@ -263,11 +262,11 @@ int runMovingLoad(const std::vector<std::string>& argv) {
   const ConfigNode root = cfg.root();
   const TrackParams params = track::loadTrackParams(cfg.root());
   const vehicle::PassageParams sim = vehicle::loadPassageParams(root);
-  const double speed = args.has("speed") ? args.getDouble("speed") : sim.speed_m_s;
-  const double duration = args.has("duration") ? positiveOption(args, "duration") : sim.duration_s;
-  const double start = args.has("start") ? args.getDouble("start") : sim.front_axle_start_m;
-  const double dt = args.has("dt") ? positiveOption(args, "dt") : sim.time_step_s;
-  const double rate = args.has("rate") ? positiveOption(args, "rate") : params.load_sample_rate_hz;
+  const double speed = args.has("speed") ? args.getDouble("speed", 0.0, 150.0) : sim.speed_m_s;
+  const double duration = args.has("duration") ? positiveOption(args, "duration", 1e-4, 3600.0) : sim.duration_s;
+  const double start = args.has("start") ? args.getDouble("start", -1e5, 1e5) : sim.front_axle_start_m;
+  const double dt = args.has("dt") ? positiveOption(args, "dt", 1e-8, 1.0) : sim.time_step_s;
+  const double rate = args.has("rate") ? positiveOption(args, "rate", 1.0, 1e7) : params.load_sample_rate_hz;
   if (!std::isfinite(speed) || speed < 0.0) throw ArgError("--speed must be >= 0");
   if (rate > 1.0 / dt * (1.0 + 1e-9)) throw ArgError("--rate must not exceed the step rate 1/dt");
   const bool single = args.isSet("single");
@@ -284,7 +283,7 @@ int runMovingLoad(const std::vector<std::string>& argv) {
     run.offsets_behind_m = vehicle::loadVehicleParams(root).axleOffsets();
   }
   if (args.has("load")) {
-    const double load = args.getDouble("load");
+    const double load = args.getDouble("load", -1e7, 1e7);
     if (!std::isfinite(load)) throw ArgError("--load must be finite");
     run.forces_n.assign(run.offsets_behind_m.size(), load);
     load_source = "--load";
@@ -385,15 +384,15 @@ int runTrackBench(const std::vector<std::string>& argv) {
       .option("steps", "steps per repeat", "20000")
       .option("repeats", "repeats (the median is reported)", "5");
   if (!args.parse(argv)) return 0;
-  const double length = positiveOption(args, "length");
+  const double length = positiveOption(args, "length", 1e-2, 1e4);
   std::vector<std::string> overrides = foundationOverride(args);
   overrides.push_back("track.extent.mode=fixed");
   overrides.push_back("track.extent.x_min_m=" + fmt(-0.5 * length));
   overrides.push_back("track.extent.x_max_m=" + fmt(0.5 * length));
   const Config cfg = loadConfig(args, overrides);
   const TrackParams params = track::loadTrackParams(cfg.root());
-  const double dt = positiveOption(args, "dt");
-  const long steps = args.getInt("steps"), repeats = args.getInt("repeats");
+  const double dt = positiveOption(args, "dt", 1e-8, 1.0);
+  const long steps = args.getInt("steps", 1, 100000000), repeats = args.getInt("repeats", 1, 1000);
   if (steps < 1 || repeats < 1) throw ArgError("--steps and --repeats must be >= 1");
   const TrackModel model(params);
   const std::vector<double> offsets{0.0, 1.6667, 7.5, 9.1667, 15.0, 16.6667};
@@ -489,11 +488,11 @@ int runInsertionLoss(const std::vector<std::string>& argv) {
   const std::string measure = args.get("measure"), at = args.get("at");
   if (measure != "usp" && measure != "ubm" && measure != "both") throw ArgError("--measure must be usp, ubm or both");
   if (at != "midspan" && at != "sleeper") throw ArgError("--at must be midspan or sleeper");
-  const double fmin = positiveOption(args, "fmin"), fmax = positiveOption(args, "fmax"),
-               df = positiveOption(args, "df");
+  const double fmin = positiveOption(args, "fmin", 1e-3, 1e5), fmax = positiveOption(args, "fmax", 1e-3, 1e5),
+               df = positiveOption(args, "df", 1e-3, 1e3);
   if (fmax <= fmin) throw ArgError("--fmax must be greater than --fmin");
   if ((fmax - fmin) / df > 200000) throw ArgError("--df too small: more than 200000 frequencies");
-  const double band = positiveOption(args, "band");
+  const double band = positiveOption(args, "band", 1e-3, 1e4);
   // the measure's section switched on (its values as configured), the other layer taken out
   std::vector<std::string> on = foundationOverride(args);
   if (measure != "ubm") on.push_back("track.under_sleeper_pad.enabled=true");

@@ -90,8 +90,8 @@ int vehicleModes(const std::vector<std::string>& args) {
   } else {
     const auto tp = track::loadTrackParams(cfg.root());
     ModalOptions mo;
-    mo.min_vehicle_energy_share = p.getDouble("min-vehicle-share");
-    mo.margin_m = p.getDouble("margin");
+    mo.min_vehicle_energy_share = p.getDouble("min-vehicle-share", 0.0, 1.0);
+    mo.margin_m = p.getDouble("margin", 0.0, 1e3);
     modes = vehicleModesFlexible(model, tp, mo);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -140,7 +140,7 @@ int wheelImpedance(const std::vector<std::string>& args) {
   vehicleOverride(p, extra);
   const Config cfg = loadConfig(p, extra);
   const VehicleModel model(loadVehicleParams(cfg.root()));
-  const int axle = static_cast<int>(p.getInt("wheel"));
+  const int axle = static_cast<int>(p.getInt("wheel", 0, 1000));
   if (axle < 0 || axle >= model.axleCount())
     throw ArgError("--wheel must be in 0.." + std::to_string(model.axleCount() - 1));
   const std::string rail_name = p.get("rail"), load_name = p.get("load");
@@ -153,8 +153,8 @@ int wheelImpedance(const std::vector<std::string>& args) {
   const AxleLoading loading = load_name == "both"   ? AxleLoading::InPhase
                               : load_name == "anti" ? AxleLoading::AntiPhase
                                                     : AxleLoading::OneWheel;
-  const double f0 = p.getDouble("f-min"), f1 = p.getDouble("f-max");
-  const long n = p.getInt("points");
+  const double f0 = p.getDouble("f-min", 1e-3, 1e5), f1 = p.getDouble("f-max", 1e-3, 1e5);
+  const long n = p.getInt("points", 2, 1000000);
   if (!(f0 > 0.0 && f1 > f0 && n >= 2)) throw ArgError("need 0 < --f-min < --f-max and --points >= 2");
   std::vector<double> f(static_cast<size_t>(n));
   for (long k = 0; k < n; ++k) f[static_cast<size_t>(k)] = f0 * std::pow(f1 / f0, static_cast<double>(k) / (n - 1));
@@ -441,7 +441,7 @@ int passage(const std::vector<std::string>& args) {
   if (p.has("foundation")) extra.push_back("track.foundation.model=" + p.get("foundation"));
   if (p.has("track")) extra.push_back("simulation.vehicle_track=" + trackChoice(p));
   vehicleOverride(p, extra);
-  const long every = p.getInt("csv-every");
+  const long every = p.getInt("csv-every", 1, 1000000000);
   if (every < 1) throw ArgError("--csv-every must be >= 1");
   const PassageSetup setup(loadConfig(p, extra));
 

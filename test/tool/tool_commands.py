@@ -374,6 +374,19 @@ class Cases:
             out = subprocess.run([self.tool, "metrics", "--csv", str(path), "--column", "vz"] + args,
                                  capture_output=True, text=True)
             check(out.returncode != 0 and message in out.stderr, (args, out.stderr))
+        # Every numeric option is finite and within its range, checked before it sizes anything: values that
+        # would allocate without bound (channels, frequency steps, mesh counts, points) are refused at once.
+        for args, message in ((["metrics", "--csv", str(path), "--column", "vz", "--vref", "nan"],
+                               "--vref = 'nan' is not a finite number"),
+                              (["decimator-check", "--channels", "99999999999"], "--channels = 99999999999 is outside"),
+                              (["din-guides", "--step-hz", "1e-12"], "--step-hz = 1e-12 is outside its range"),
+                              (["soil-bench", "throughput", "--nx", "100000"], "--nx = 100000 is outside"),
+                              (["wheel-impedance", "--points", "1e9"], "--points = '1e9' is not a whole number"),
+                              (["wheel-impedance", "--points", "1000000000"], "--points = 1000000000 is outside"),
+                              (["track-bench", "--steps", "-5"], "--steps = -5 is outside")):
+            t0 = time.monotonic()
+            out = subprocess.run([self.tool] + args, capture_output=True, text=True, timeout=120)
+            check(out.returncode != 0 and message in out.stderr and time.monotonic() - t0 < 30, (args, out.stderr))
 
     def din_check(self):
         s = self.run("din-check", "--rate", "1000")

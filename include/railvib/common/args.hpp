@@ -31,8 +31,11 @@ class ArgParser {
   bool has(const std::string& name) const;
   bool isSet(const std::string& flag_name) const;
   std::string get(const std::string& name) const;
-  double getDouble(const std::string& name) const;
-  long getInt(const std::string& name) const;
+  /// A number, finite and within [lo, hi] (ArgError naming the option, the value and the range): every
+  /// numeric option states its range where it is read, so no value sizes an allocation unchecked.
+  double getDouble(const std::string& name, double lo, double hi) const;
+  /// A whole number within [lo, hi] (ArgError otherwise).
+  long getInt(const std::string& name, long lo, long hi) const;
   /// A comma-separated list of numbers, at least one, each finite and within [lo, hi] (ArgError naming
   /// the option, the item and the range otherwise).
   std::vector<double> getDoubles(const std::string& name, double lo, double hi) const;
