@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -863,6 +864,28 @@ int soilRun(const std::vector<std::string>& args) {
   if (sleeper_x.size() != ns) {
     throw std::runtime_error(p.get("loads") + ": " + std::to_string(ns) + " sleeper columns but " +
                              std::to_string(sleeper_x.size()) + " sleeper positions");
+  }
+  // A column named after its sleeper's position (x_<m>, as passage and moving-load write them) must be
+  // that sleeper's: loads of another track layout would land on the wrong sleepers.
+  for (size_t s = 0; s < ns; ++s) {
+    const std::string& column = loads.columns[1 + s * seats];
+    const std::string base = seats == 2 ? baseOfLeft(column).value_or(column) : column;
+    if (base.rfind("x_", 0) != 0) continue;
+    char* end = nullptr;
+    const double x = std::strtod(base.c_str() + 2, &end);
+    if (end == base.c_str() + 2 || *end != '\0' || !std::isfinite(x)) continue;
+    if (std::abs(x - sleeper_x[s]) > std::max(1e-3, 1e-5 * std::abs(x))) {
+      throw std::runtime_error(p.get("loads") + ": column " + std::to_string(2 + s * seats) + " '" + column +
+                               "' is the load of a sleeper at x = " + formatValue(x) + " m, but sleeper " +
+                               std::to_string(s) + " of the scenario lies at x = " + formatValue(sleeper_x[s]) +
+                               " m: the loads come from another track layout");
+    }
+  }
+  // The loads must carry every frequency the mesh resolves (the same rule as track.output.load_sample_rate_hz).
+  if (rate < 2.0 * params.mesh.f_max_hz) {
+    throw std::runtime_error(p.get("loads") + ": sampled at " + formatValue(rate) +
+                             " Hz, below twice soil.mesh.f_max_hz (" + formatValue(params.mesh.f_max_hz) +
+                             " Hz): the loads cannot drive the frequencies the mesh resolves");
   }
   // Under mpirun every rank runs this command with the same arguments (it reads the same inputs: on
   // several hosts they must be readable on each) and holds a slab of the mesh; rank 0 alone writes.

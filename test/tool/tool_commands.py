@@ -254,6 +254,23 @@ class Cases:
                                   str(loads), "--out", str(WORK / "soil_bad"), "--duration", "0.001"],
                                  capture_output=True, text=True)
             check(out.returncode != 0 and "track.width is " + width in out.stderr, (width, out.stderr))
+        # A loads file of another track layout (a column named after a sleeper the scenario does not have
+        # there), or sampled too slowly for the mesh's f_max: refused with the reason.
+        table = rows(self.passage_dir / "soil_loads.csv")
+        header = list(table[0])
+        moved = header[:2] + ["x_" + repr(float(header[2][2:]) + 0.3)] + header[3:]
+        slow = WORK / "soil_loads_slow.csv"
+        slow.write_text(",".join(header) + "\n" + "".join(
+            ",".join([repr(0.05 * i)] + [table[0][c] for c in header[1:]]) + "\n" for i in range(5)))
+        moved_path = WORK / "soil_loads_moved.csv"
+        moved_path.write_text(",".join(moved) + "\n" + "".join(
+            ",".join(row[c] for c in header) + "\n" for row in table[:5]))
+        for loads, message in ((moved_path, "the loads come from another track layout"),
+                               (slow, "below twice soil.mesh.f_max_hz")):
+            out = subprocess.run([self.tool, "soil", "--config", CI, "--loads", str(loads), "--sleepers",
+                                  str(self.passage_dir / "sleepers.csv"), "--out", str(WORK / "soil_bad"),
+                                  "--duration", "0.001"], capture_output=True, text=True)
+            check(out.returncode != 0 and message in out.stderr, (loads, out.stderr))
 
     def soil_bench(self):
         s = self.run("soil-bench", "throughput", "--nx", 16, "--ny", 8, "--nz", 4, "--steps", 3, "--repeat", 1,
