@@ -169,6 +169,14 @@ Unevenness::Unevenness(const UnevennessParams& params, double x_min, double x_ma
     if (measured_x_.size() < 2) {
       throw std::runtime_error("measured profile " + file + ": needs at least two rows");
     }
+    // Outside the stretch the wheels run on it would be read as no unevenness at all: a profile in
+    // another frame or unit of x.
+    if (measured_x_.back() < x_min || measured_x_.front() > x_max) {
+      throw std::runtime_error("measured profile " + file + ": x_m covers [" + formatValue(measured_x_.front()) + ", " +
+                               formatValue(measured_x_.back()) + "] m, outside the track's [" + formatValue(x_min) +
+                               ", " + formatValue(x_max) +
+                               "] m where the wheels run (x along the track, the defect at 0, in metres)");
+    }
     if (full && columns.size() == 1) measured_z_[1] = measured_z_[0];
   }
 }

@@ -307,6 +307,10 @@ TEST(Scenario, AMeasuredProfileIsReadAndCheckedAtConfigTime) {
   EXPECT_NE(nan.find("profile.csv:3"), std::string::npos) << nan;
   EXPECT_NE(with_profile("x_m,z_m\n-10,0\n0,5\n10,0\n").find("limits.unevenness_m"), std::string::npos);
   EXPECT_NE(with_profile("x_m,z_m\n-10,0\n-20,0\n").find("must be greater"), std::string::npos);
+  // A profile beside the track (another frame, or x in mm) would be read as no unevenness: refused.
+  const std::string beside = with_profile("x_m,z_m\n5000,0\n5010,1e-4\n");
+  EXPECT_NE(beside.find("outside the track's"), std::string::npos) << beside;
+  EXPECT_NE(beside.find("unevenness.measured_profile.file"), std::string::npos) << beside;
   fs::remove_all(dir);
 }
 
