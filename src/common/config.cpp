@@ -30,6 +30,8 @@ struct ConfigData {
   mutable std::set<std::string> inactive;
   // plausibility.accept: key paths whose value may lie outside its quantity's typical range
   std::set<std::string> plausibility_accept;
+  // What a reader of the resolved configuration should know (config-check prints them).
+  std::vector<std::string> notes;
 };
 }  // namespace detail
 
@@ -382,6 +384,26 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
     if (k.empty()) throw ConfigError("config error: override '" + assignment + "': empty key in path");
     keys.push_back(k);
   }
+  // A list replaced by a shorter one drops entries the files had: say which (by name when they have one).
+  YAML::Node existing = YAML::Clone(data.root);
+  for (const auto& k : keys) existing = existing.IsMap() ? existing[k] : YAML::Node();
+  if (existing.IsDefined() && existing.IsSequence() && value.IsSequence() && value.size() < existing.size()) {
+    std::set<std::string> kept;
+    for (const auto& entry : value) {
+      if (entry.IsMap() && entry["name"] && entry["name"].IsScalar()) kept.insert(entry["name"].Scalar());
+    }
+    std::string dropped;
+    for (size_t i = 0; i < existing.size(); ++i) {
+      const YAML::Node entry = existing[i];
+      const bool named = entry.IsMap() && entry["name"] && entry["name"].IsScalar();
+      if (named && kept.count(entry["name"].Scalar())) continue;
+      if (!named && i < value.size()) continue;
+      dropped += (dropped.empty() ? "" : ", ") + (named ? entry["name"].Scalar() : "[" + std::to_string(i) + "]");
+    }
+    data.notes.push_back("override '" + path + "=...' replaces a list of " + std::to_string(existing.size()) +
+                         " entries by " + std::to_string(value.size()) +
+                         (dropped.empty() ? "" : "; dropped: " + dropped));
+  }
   YAML::Node overlay = value;
   for (auto it = keys.rbegin(); it != keys.rend(); ++it) {
     YAML::Node parent(YAML::NodeType::Map);
@@ -699,6 +721,8 @@ Config Config::fromString(const std::string& yaml_text, const std::string& label
 }
 
 ConfigNode Config::root() const { return ConfigNode(data_, data_->root, ""); }
+
+const std::vector<std::string>& Config::notes() const { return data_->notes; }
 
 std::string Config::dump() const {
   YAML::Emitter out;

@@ -129,6 +129,7 @@ nlohmann::json validateScenario(const Config& config) {
   summary["track_foundation"] = track::foundationName(track.foundation);
   summary["virtual_sensors"] = sensor_list;
   summary["notes"] = soilSensorsOnTheFoundation(root, soil.receivers);
+  for (const std::string& note : config.notes()) summary["notes"].push_back(note);
   summary["rates_hz"] = {{"contact_forces", step_rate_hz},
                          {"soil_loads", track.load_sample_rate_hz},
                          {"surface_velocities", soil.receiver_rate_hz},

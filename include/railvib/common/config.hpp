@@ -139,6 +139,8 @@ class Config {
   static Config fromString(const std::string& yaml_text, const std::string& label = "<string>");
 
   ConfigNode root() const;
+  /// What the loading noticed that a reader should know (e.g. an override that dropped list entries).
+  const std::vector<std::string>& notes() const;
   ConfigNode section(const std::string& key) const { return root().section(key); }
   /// The merged configuration as YAML text (recorded next to results).
   std::string dump() const;

@@ -385,3 +385,34 @@ TEST(ScenarioFuzz, PlausibilityAcceptIsAListOfKeyPaths) {
   }
   EXPECT_EQ(verdictOf("haren_ci.yaml", {"plausibility={accept: [simulation.speed_m_s]}"}), "");
 }
+
+// A --set that replaces a list by a shorter one drops entries the files had: the scenario's notes say
+// which, by name; the same list with every entry says nothing.
+TEST(Scenario, AnOverrideThatDropsListEntriesIsNamedInTheNotes) {
+  const YAML::Node sensors = ciTree()["virtual_sensors"]["sensors"];
+  ASSERT_GE(sensors.size(), 2u);
+  const auto flow = [](const YAML::Node& n) {
+    YAML::Emitter out;
+    out << YAML::Flow << n;
+    return std::string(out.c_str());
+  };
+  YAML::Node first(YAML::NodeType::Sequence);
+  first.push_back(sensors[0]);
+  const nlohmann::json notes =
+      validateScenario(Config::load(configPath("haren_ci.yaml"), {"virtual_sensors.sensors=" + flow(first)}))["notes"];
+  std::string dropped;
+  for (size_t i = 1; i < sensors.size(); ++i) dropped += (i > 1 ? ", " : "") + sensors[i]["name"].as<std::string>();
+  bool found = false;
+  for (const auto& n : notes) {
+    const std::string note = n.get<std::string>();
+    if (note.find("virtual_sensors.sensors") == std::string::npos) continue;
+    found = true;
+    EXPECT_NE(note.find("replaces a list of " + std::to_string(sensors.size()) + " entries by 1"), std::string::npos)
+        << note;
+    EXPECT_NE(note.find("dropped: " + dropped), std::string::npos) << note;
+  }
+  EXPECT_TRUE(found) << notes.dump();
+  const nlohmann::json same = validateScenario(
+      Config::load(configPath("haren_ci.yaml"), {"virtual_sensors.sensors=" + flow(sensors)}))["notes"];
+  for (const auto& n : same) EXPECT_EQ(n.get<std::string>().find("virtual_sensors.sensors"), std::string::npos);
+}
