@@ -42,6 +42,7 @@ import bag_check  # noqa: E402
 import launch_scenario  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
+import railvib_yaml  # noqa: E402
 import test_summary  # noqa: E402
 
 import rosbag  # noqa: E402
@@ -895,6 +896,29 @@ class LauncherTeardown(unittest.TestCase):
         out, _ = launcher.communicate(timeout=40)
         self.assertIn("railvib: launch interrupted", out)
         self.assert_all_end(pids, 1.0)
+
+    def test_the_site_frames_reach_tf_echo_and_a_tf2_python_listener(self):
+        # What ROS users reach for (setup installs tf-tools and python3-tf2-ros): the house's frame in the
+        # track frame, the same through a tf2 Python listener and `rosrun tf tf_echo`, in front of the track.
+        launcher = self.start(self.launcher())
+        self.wait_for_nodes()
+        listener = subprocess.run([sys.executable, "-c", (
+            "import rospy, tf2_ros\n"
+            "rospy.init_node('tf2_listener_test', anonymous=True)\n"
+            "buf = tf2_ros.Buffer(); tf2_ros.TransformListener(buf)\n"
+            "t = buf.lookup_transform('track', 'building', rospy.Time(0), rospy.Duration(10.0)).transform.translation\n"
+            "print(t.x, t.y, t.z)\n")], env=self.env, capture_output=True, text=True, timeout=60)
+        self.assertEqual(listener.returncode, 0, listener.stderr)
+        x, y, z = map(float, listener.stdout.split())
+        self.assertTrue(3.0 < y < 20.0 and z == 0.0, (x, y, z))  # Haren's house: its front wall ~4.7 m off the axis
+        echo = subprocess.Popen(["rosrun", "tf", "tf_echo", "track", "building"], env=self.env, text=True,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+        try:
+            out, _ = echo.communicate(timeout=8)
+        except subprocess.TimeoutExpired:
+            out, _ = railvib_process.stop(echo, grace_s=5.0)
+        self.assertIn(f"Translation: [{x:.3f}, {y:.3f}, {z:.3f}]", out)
+        self.railvib_process.stop(launcher)
 
     def test_stop_escalates_to_sigkill_for_a_process_that_ignores_sigint_and_sigterm(self):
         stubborn = self.start([sys.executable, "-c", "import signal, sys, time\n"
