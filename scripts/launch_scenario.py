@@ -159,6 +159,21 @@ def note_roslaunch_signals():
     roslaunch.pmon.rl_signal = rl_signal
 
 
+def quiet_clean_finish(finisher):
+    """roslaunch reports any required process's end as "REQUIRED process [...] has died!", also the
+    finisher's clean one, which is how a successful run ends: that one is said as what it is; every
+    other death keeps roslaunch's message."""
+    original = roslaunch.pmon.printerrlog
+
+    def printerrlog(msg):
+        if (f"REQUIRED process [{finisher}-" in msg and "process has finished cleanly" in msg):
+            print(f"railvib: the {finisher} finished cleanly; ending the run", flush=True)
+            return
+        original(msg)
+
+    roslaunch.pmon.printerrlog = printerrlog
+
+
 def end_with_the_parent():
     """SIGTERM to this process when the one that started it dies (Linux prctl PR_SET_PDEATHSIG)."""
     parent = os.getppid()
@@ -204,6 +219,7 @@ def main(argv):
         print(f"railvib: launch failed: {e}", file=sys.stderr)
         return 2
     launch_args = [a for a in args if ":=" in a]
+    quiet_clean_finish(options.finisher)
     conflict = conflicting_arguments(launch_args)
     if conflict:
         print(f"railvib: launch failed: {conflict}", file=sys.stderr)

@@ -100,6 +100,9 @@ def haren_run(test, name):
         code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag)])
         test.assertEqual(code, 0, f"run {name} failed:\n{out[-3000:]}")
         test.assertTrue(bag.exists(), f"run {name} wrote no bag:\n{out[-3000:]}")
+        # A successful run ends with the recorder's clean finish, said as such (not roslaunch's alarm).
+        test.assertNotIn("REQUIRED process", out)
+        test.assertIn("railvib: the recorder finished cleanly; ending the run", out)
     return bag
 
 
