@@ -7,14 +7,20 @@ VibrationMetrics of every sensor (the core's metrics: one-third octave velocity 
 PPV, KB_Fmax, DIN 4150 verdicts) this module writes, per measure and receiver:
 
 - the insertion loss per one-third octave band, ISO 14837-1: IL = L_v(without) - L_v(with) in dB
-  (positive: the measure lowers the vibration), and over the whole band (the levels' energy sums);
+  (positive: the measure lowers the vibration), and overall (the levels' energy sums over the bands the
+  model resolves: up to the sensor's resolved frequency, soil.mesh.f_max_hz, when the run records one;
+  the figure shades the bands above it);
 - the change of PPV and KB_Fmax, and each DIN 4150 verdict without and with the measure;
 - mitigation.csv (per band), mitigation_summary.csv, mitigation.md (tables; which measure brings each
   verdict to OK) and mitigation.png (IL against band, one line per measure, one panel per receiver).
+
+usage (the tables again from a finished study's bags, e.g. after a change of this module):
+  mitigation.py STUDY_DIR [--catalogue FILE]
 """
 import csv
 import math
 import pathlib
+import sys
 
 import yaml
 
@@ -89,8 +95,15 @@ def energy_level(levels_db):
     return 10.0 * math.log10(sum(10.0 ** (v / 10.0) for v in finite)) if finite else float("nan")
 
 
+def resolved_limit_hz(metrics):
+    """The highest band centre the record resolves (the sensor's resolved_hz; inf when none is recorded)."""
+    r = getattr(metrics, "resolved_hz", 0.0)
+    return r if r and r > 0 and math.isfinite(r) else math.inf
+
+
 def insertion_loss(base, with_measure):
-    """ISO 14837-1 per band and overall for one sensor's two VibrationMetrics (bands must match)."""
+    """ISO 14837-1 per band, and overall over the resolved bands, for one sensor's two VibrationMetrics
+    (bands must match)."""
     fb, fw = list(base.third_octave_center_hz), list(with_measure.third_octave_center_hz)
     if fb != fw:
         raise ValueError(f"sensor {base.sensor_name}: the runs' one-third octave bands differ ({len(fb)} vs {len(fw)})")
@@ -98,7 +111,9 @@ def insertion_loss(base, with_measure):
     if len(lb) != len(fb) or len(lw) != len(fb):
         raise ValueError(f"sensor {base.sensor_name}: band levels and centres differ in count")
     per_band = [b - w for b, w in zip(lb, lw)]
-    return fb, per_band, energy_level(lb) - energy_level(lw)
+    limit = resolved_limit_hz(base)
+    keep = [i for i, f in enumerate(fb) if f <= limit]
+    return fb, per_band, energy_level([lb[i] for i in keep]) - energy_level([lw[i] for i in keep])
 
 
 def summarise(baseline_metrics, measure_results):
@@ -115,6 +130,7 @@ def summarise(baseline_metrics, measure_results):
                 bands.append({"measure": name, "sensor": sensor, "band_hz": f, "il_db": v})
             summary.append({
                 "measure": name, "description": description, "sensor": sensor, "overall_il_db": overall,
+                "resolved_hz": resolved_limit_hz(b),
                 "ppv_base_mm_s": b.ppv_m_s * 1e3, "ppv_with_mm_s": m.ppv_m_s * 1e3,
                 "ppv_change_pct": 100.0 * (m.ppv_m_s / b.ppv_m_s - 1.0) if b.ppv_m_s > 0 else float("nan"),
                 "kb_f_max_base": b.kb_f_max, "kb_f_max_with": m.kb_f_max,
@@ -127,7 +143,7 @@ def summarise(baseline_metrics, measure_results):
     return bands, summary
 
 
-SUMMARY_COLUMNS = ["measure", "sensor", "kind", "overall_il_db", "ppv_base_mm_s", "ppv_with_mm_s", "ppv_change_pct",
+SUMMARY_COLUMNS = ["measure", "sensor", "kind", "overall_il_db", "resolved_hz", "ppv_base_mm_s", "ppv_with_mm_s", "ppv_change_pct",
                    "kb_f_max_base", "kb_f_max_with", "din4150_2_base", "din4150_2_with", "din4150_3_base",
                    "din4150_3_with", "description"]
 
@@ -144,10 +160,15 @@ def write_outputs(outdir, bands, summary, wall_s):
         w.writeheader()
         w.writerows(summary)
     fmt = lambda v: f"{v:.3g}" if isinstance(v, float) else str(v)  # noqa: E731
+    resolved = sorted({s_["resolved_hz"] for s_ in summary if math.isfinite(s_["resolved_hz"])})
+    overall = ("Overall: the bands' energy sums up to the model's resolved frequency ("
+               + ", ".join(f"{r:g} Hz" for r in resolved)
+               + "; the bands above are not resolved and are shaded in the figure)." if resolved
+               else "Overall: the bands' energy sums.")
     lines = ["# railvib mitigation: insertion loss of each measure", "",
              "IL = L_v(without) - L_v(with) per one-third octave band (ISO 14837-1; levels re 1e-9 m/s, the "
              "sensors' core metrics over the whole record); positive: the measure lowers the vibration. "
-             "Overall: the bands' energy sums.", "",
+             + overall, "",
              "| measure | sensor (kind) | overall IL [dB] | PPV [mm/s] without -> with | change | KB_Fmax without -> with "
              "| DIN 4150-2 | DIN 4150-3 |", "|---|---|---|---|---|---|---|---|"]
     for s in summary:
@@ -176,13 +197,23 @@ def write_outputs(outdir, bands, summary, wall_s):
     # One panel per receiver: IL against band, one line per measure.
     fig, axes = plt.subplots(1, max(1, len(sensors)), figsize=(4.2 * max(1, len(sensors)), 4.0), squeeze=False)
     measures = list(dict.fromkeys(b["measure"] for b in bands))
+    # A colour and a line style of its own for each measure (matplotlib's cycle repeats after ten).
+    colours = plt.get_cmap("tab20").colors
+    styles = [(colours[(2 * i) % 20 + (i // 10) % 2], ("-", "--", ":", "-.")[i // 20 % 4], "os^v"[i // 10 % 4])
+              for i in range(len(measures))]
     for ax, sensor in zip(axes[0], sensors):
-        for name in measures:
+        for name, (colour, line, marker) in zip(measures, styles):
             pts = [(b["band_hz"], b["il_db"]) for b in bands if b["sensor"] == sensor and b["measure"] == name]
             pts = [(f, v) for f, v in pts if math.isfinite(v)]
             if pts:
-                ax.semilogx([p[0] for p in pts], [p[1] for p in pts], "o-", ms=3, label=name)
+                ax.semilogx([p[0] for p in pts], [p[1] for p in pts], marker=marker, ls=line, color=colour, ms=3,
+                            label=name)
         ax.axhline(0.0, color="k", lw=0.8)
+        limits = [s_["resolved_hz"] for s_ in summary if s_["sensor"] == sensor and math.isfinite(s_["resolved_hz"])]
+        top = max((b["band_hz"] for b in bands if b["sensor"] == sensor), default=0.0)
+        if limits and top > min(limits):
+            ax.axvspan(min(limits) * 2 ** (1 / 6), top * 2 ** (1 / 6), color="0.88", zorder=0,
+                       label=f"above f_max {min(limits):g} Hz (not resolved)")
         # The bands' own centres as ticks (every other one when there are many), plain numbers.
         centres = sorted({b["band_hz"] for b in bands if b["sensor"] == sensor})
         ticks = centres[:: max(1, (len(centres) + 9) // 10)]
@@ -199,3 +230,48 @@ def write_outputs(outdir, bands, summary, wall_s):
     fig.savefig(outdir / "mitigation.png", dpi=110)
     plt.close(fig)
     return ["mitigation.md", "mitigation.csv", "mitigation_summary.csv", "mitigation.png"]
+
+
+def main(argv):
+    """The tables and figure again from a finished study's run bags (labels, wall times: study.csv)."""
+    import argparse
+    import study
+    ap = argparse.ArgumentParser(prog="mitigation.py", description="insertion loss from a finished study")
+    ap.add_argument("study_dir")
+    ap.add_argument("--catalogue", default=str(pathlib.Path(__file__).resolve().parents[1] / "config" /
+                                           "mitigation.yaml"))
+    a = ap.parse_args(argv[1:])
+    outdir = pathlib.Path(a.study_dir)
+    try:
+        catalogue = load_catalogue(a.catalogue)
+        with open(outdir / "study.csv", newline="") as f:
+            runs = {}
+            for row in csv.DictReader(f):
+                runs.setdefault(int(row["run"]), (row["label"], float(row["wall_s"] or "nan")))
+    except (CatalogueError, OSError, KeyError, ValueError) as e:
+        print(f"railvib mitigation: error: {e}", file=sys.stderr)
+        return 2
+    results = []
+    for index in sorted(runs):
+        label, seconds = runs[index]
+        bag = outdir / f"run_{index:03d}" / "run.bag"
+        if not bag.exists():
+            print(f"railvib mitigation: error: {bag} missing", file=sys.stderr)
+            return 2
+        results.append((label, seconds, study.last_metrics(bag)))
+    if not results or results[0][0] != BASELINE:
+        print(f"railvib mitigation: error: {outdir}: run 1 is not the baseline", file=sys.stderr)
+        return 2
+    unknown = [label for label, _, _ in results[1:] if label not in catalogue]
+    if unknown:
+        print(f"railvib mitigation: error: measures not in {a.catalogue}: {', '.join(unknown)}", file=sys.stderr)
+        return 2
+    done = [(label, catalogue[label]["description"], m) for label, _, m in results[1:]]
+    bands, summary = summarise(results[0][2], done)
+    files = write_outputs(outdir, bands, summary, {label: seconds for label, seconds, _ in results})
+    print(f"railvib mitigation: {', '.join(str(outdir / f) for f in files)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -246,6 +246,7 @@ with rosbag.Bag(args["bag"], "w") as bag:
         m.din4150_2_verdict = 1 if m.kb_f_max > 0.6 else 0
         trench = bool(config.get("soil", {}).get("inclusions"))
         m.third_octave_center_hz = [10.0, 12.5, 16.0, 20.0, 25.0, 31.5]
+        m.resolved_hz = 30.0 if name == "ground_8m" else 0.0  # a model resolving 30 Hz there; 0: no limit
         m.third_octave_level_db = [20 * __import__("math").log10(height * scale * 1e9) + 3 * q
                                    - (10.0 if trench and name == "ground_8m" and f >= 20.0 else 0.0)
                                    for q, f in enumerate(m.third_octave_center_hz)]
@@ -343,11 +344,14 @@ class Study(unittest.TestCase):
         self.assertAlmostEqual(float(half["overall_il_db"]), 20 * math.log10(2.0), places=9)
         self.assertAlmostEqual(float(half["kb_f_max_with"]) / float(half["kb_f_max_base"]), 0.5, places=12)
         self.assertEqual((half["din4150_2_base"], half["din4150_2_with"]), ("WARN", "OK"))
-        # Overall IL of the trench at the far sensor: the energy sum of bands 3 dB apart, the top three 10 dB lower.
-        levels = [3.0 * q for q in range(6)]
+        # Overall IL of the trench at the far sensor: the energy sum of bands 3 dB apart, the top ones 10 dB
+        # lower, over the bands the model resolves there (up to 30 Hz: the 31.5 Hz band left out).
+        levels = [3.0 * q for q in range(5)]
         e = lambda ls: 10 * math.log10(sum(10 ** (v / 10) for v in ls))  # noqa: E731
         self.assertAlmostEqual(float(summary[("trench", "ground_8m")]["overall_il_db"]),
                                e(levels) - e(levels[:3] + [v - 10 for v in levels[3:]]), places=9)
+        self.assertEqual(float(summary[("trench", "ground_8m")]["resolved_hz"]), 30.0)
+        self.assertIn("up to the model's resolved frequency (30 Hz", (out / "mitigation.md").read_text())
         md = (out / "mitigation.md").read_text()
         self.assertIn("- ground_2m, DIN 4150-2 (WARN without): defect_half", md)
         self.assertGreater((out / "mitigation.png").stat().st_size, 10000)
