@@ -77,11 +77,6 @@ int metrics(const std::vector<std::string>& args) {
     const double dt = io::uniformStep(table, table.column(p.get("time-column")));
     fs = 1.0 / dt;
   }
-  if (static_cast<double>(table.rows.size()) / fs < kMinDurationS) {
-    throw std::runtime_error("metrics: " + p.get("csv") + ": " + std::to_string(table.rows.size()) + " samples at " +
-                             formatValue(fs) + " Hz: " + formatValue(table.rows.size() / fs) +
-                             " s, too short for the metrics (at least " + formatValue(kMinDurationS) + " s)");
-  }
 
   std::vector<std::vector<double>> comps;
   const double bound = StreamLimits{}.velocity_m_s;
@@ -98,6 +93,12 @@ int metrics(const std::vector<std::string>& args) {
       }
     }
     comps.push_back(std::move(v));
+  }
+  // Length last: a wrong column or an impossible value is the first thing to say about a file.
+  if (static_cast<double>(table.rows.size()) / fs < kMinDurationS) {
+    throw std::runtime_error("metrics: " + p.get("csv") + ": " + std::to_string(table.rows.size()) + " samples at " +
+                             formatValue(fs) + " Hz: " + formatValue(table.rows.size() / fs) +
+                             " s, too short for the metrics (at least " + formatValue(kMinDurationS) + " s)");
   }
   const std::vector<double> range = p.getDoubles("bands", 0.1, 20000.0);
   if (range.size() != 2 || !(range[0] < range[1])) throw ArgError("metrics: --bands must be min,max with min < max");
