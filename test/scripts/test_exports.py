@@ -36,6 +36,8 @@ SCRIPTS = ROOT / "scripts"
 sys.path.insert(0, str(SCRIPTS))
 sys.path.insert(0, str(ROOT / "test" / "scripts"))
 import bag_check  # noqa: E402
+sys.path.insert(0, str(ROOT / "test" / "ros"))
+from junit_xml import write_junit  # noqa: E402
 import railvib_names as names  # noqa: E402
 
 import rosbag  # noqa: E402
@@ -469,24 +471,12 @@ class MeasuredImport(unittest.TestCase):
 CLASSES = (Export, SensorTopics, Study, MeasuredImport)
 
 
-def write_junit(result, path):
-    suite = ET.Element("testsuite", name="export_tests", tests=str(result.testsRun))
-    failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in CLASSES:
-        for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
-            case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
-            if test.id() in failed:
-                ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
-    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
 if __name__ == "__main__":
     suite = unittest.TestSuite()
     for cls in CLASSES:
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
-        write_junit(result, sys.argv[1])
+        write_junit(result, "export_tests", CLASSES, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)

@@ -25,7 +25,6 @@ import subprocess
 import sys
 import tempfile
 import unittest
-import xml.etree.ElementTree as ET
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -35,6 +34,8 @@ SCRIPTS = ROOT / "scripts"
 sys.path.insert(0, str(SCRIPTS))
 import railvib_yaml  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
+sys.path.insert(0, str(ROOT / "test" / "ros"))
+from junit_xml import write_junit  # noqa: E402
 
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_properties_"))
 TOOL = os.environ.get("RAILVIB_TOOL") or find_railvib_tool()
@@ -226,18 +227,6 @@ class StreamBlocks(unittest.TestCase):
 CLASSES = (ConfigLoader, CsvReaders, StreamBlocks)
 
 
-def write_junit(result, path):
-    suite = ET.Element("testsuite", name="property_tests", tests=str(result.testsRun))
-    failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in CLASSES:
-        for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
-            case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
-            if test.id() in failed:
-                ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
-    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
 if __name__ == "__main__":
     if not TOOL:
         sys.exit("test_properties: railvib_tool not found (RAILVIB_TOOL or the workspace)")
@@ -246,6 +235,6 @@ if __name__ == "__main__":
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
-        write_junit(result, sys.argv[1])
+        write_junit(result, "property_tests", CLASSES, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)

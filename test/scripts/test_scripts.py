@@ -39,6 +39,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "scripts"
 sys.path.insert(0, str(SCRIPTS))
 import bag_check  # noqa: E402
+sys.path.insert(0, str(ROOT / "test" / "ros"))
+from junit_xml import write_junit  # noqa: E402
 import launch_scenario  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
@@ -932,24 +934,16 @@ class LauncherTeardown(unittest.TestCase):
         self.assertLess(time.time() - t0, 10.0)
 
 
-def write_junit(result, path):
-    suite = ET.Element("testsuite", name="script_tests", tests=str(result.testsRun))
-    failed = {t.id(): m for t, m in result.failures + result.errors}
-    for cls in (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
-        for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
-            case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
-            if test.id() in failed:
-                ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
-    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+CLASSES = (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, ReportFigures, Workspace,
+           LauncherTeardown)
 
 
 if __name__ == "__main__":
     suite = unittest.TestSuite()
-    for cls in (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, ReportFigures, Workspace, LauncherTeardown):
+    for cls in CLASSES:
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
-        write_junit(result, sys.argv[1])
+        write_junit(result, "script_tests", CLASSES, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)
