@@ -58,17 +58,6 @@ std::string describeValue(const YAML::Node& value) {
 }
 
 // "soil.layers[3].thickness_m" -> "soil.layers[].thickness_m": one key for every entry of a list.
-std::string normalizedPath(const std::string& path) {
-  std::string out;
-  out.reserve(path.size());
-  for (size_t i = 0; i < path.size(); ++i) {
-    out += path[i];
-    if (path[i] == '[') {
-      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
-    }
-  }
-  return out;
-}
 
 std::string parentOf(const std::string& path) {
   const auto dot = path.rfind('.');
@@ -464,9 +453,9 @@ void ConfigNode::failValue(const std::string& key, const YAML::Node& value, cons
                     fileOf(key) + "]");
 }
 
-void ConfigNode::record(const std::string& key) const { data_->queried.insert(normalizedPath(childPath(key))); }
+void ConfigNode::record(const std::string& key) const { data_->queried.insert(normalizedKeyPath(childPath(key))); }
 
-void ConfigNode::markKnown(const std::string& key) const { data_->inactive.insert(normalizedPath(childPath(key))); }
+void ConfigNode::markKnown(const std::string& key) const { data_->inactive.insert(normalizedKeyPath(childPath(key))); }
 
 bool ConfigNode::has(const std::string& key) const {
   record(key);
@@ -781,7 +770,7 @@ struct UnknownKeyWalk {
   }
 
   std::string hint(const std::string& path) const {
-    const std::string normalized = normalizedPath(path);
+    const std::string normalized = normalizedKeyPath(path);
     const std::string key = lastKeyOf(normalized);
     const std::vector<std::string> valid = siblings(normalized);
     if (valid.empty()) return "no key is read here";
@@ -805,7 +794,7 @@ struct UnknownKeyWalk {
     if (node.IsMap()) {
       for (const auto& kv : node) {
         const std::string child = joinPath(path, kv.first.as<std::string>());
-        if (!known(normalizedPath(child))) {
+        if (!known(normalizedKeyPath(child))) {
           lines.push_back("config error: " + child + " = " + describeValue(kv.second) + ": unknown key, " +
                           hint(child) + " [file " + sourceOf(child) + "]");
           continue;

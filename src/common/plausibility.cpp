@@ -1,7 +1,6 @@
 #include "railvib/common/plausibility.hpp"
 
 #include <cmath>
-#include <regex>
 
 namespace railvib {
 
@@ -30,17 +29,25 @@ const std::vector<PlausibilityRule>& plausibilityRules() {
 }
 
 namespace {
-std::string withoutIndices(const std::string& path) {
-  static const std::regex index(R"(\[[0-9]+\])");
-  return std::regex_replace(path, index, "[]");
-}
 bool endsWith(const std::string& s, const std::string& end) {
   return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
 }
 }  // namespace
 
+std::string normalizedKeyPath(const std::string& path) {
+  std::string out;
+  out.reserve(path.size());
+  for (size_t i = 0; i < path.size(); ++i) {
+    out += path[i];
+    if (path[i] == '[') {
+      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
+    }
+  }
+  return out;
+}
+
 const PlausibilityRule* plausibilityRuleFor(const std::string& key_path) {
-  const std::string path = withoutIndices(key_path);
+  const std::string path = normalizedKeyPath(key_path);
   const auto dot = path.rfind('.');
   const std::string name = dot == std::string::npos ? path : path.substr(dot + 1);
   for (const auto& rule : plausibilityRules()) {

@@ -20,6 +20,10 @@ struct PlausibilityRule {
   std::string slip;  // the unit mistake a value outside suggests
 };
 
+/// A key path with its list indices as "[]" (soil.layers[2].thickness_m -> soil.layers[].thickness_m): the
+/// form the rules and the configuration's record of read keys use.
+std::string normalizedKeyPath(const std::string& path);
+
 /// Every rule (one table: docs/robustness.md lists it).
 const std::vector<PlausibilityRule>& plausibilityRules();
 
