@@ -11,8 +11,11 @@ Exit codes:
      block), stopped early or with non-finite values, or the recorder stopped
      on an error (disk full, a gap, ...); the findings name each stream;
   2  refused: not a readable bag, not a railvib bag (no railvib stream and no
-     recording status), a railvib topic name with another message type, or a
-     malformed block (array sizes that do not match its counts).
+     recording status), a railvib topic name with another message type, a
+     malformed block (array sizes that do not match its counts), or a recorded
+     metrics, snapshot or transform message that breaks the message contract
+     (scripts/railvib_contracts.py: a NaN, a sensor the run does not have, a
+     grid its values do not fill, a rotation that is not one).
 
 The expected streams are those the recorder was told to record, from the
 status it writes into the bag when it closes it (/railvib/recording). A bag
@@ -27,7 +30,9 @@ import sys
 
 import numpy as np
 
+import railvib_contracts
 import railvib_names as names
+import railvib_yaml
 
 try:
     import rosbag
@@ -207,7 +212,52 @@ def check_bag(path):
         if names.SENSOR_SAMPLES in result.expected and names.SENSOR_SAMPLES in info and names.SENSOR_METRICS not in info:
             result.findings.append(f"{names.SENSOR_METRICS}: no metrics recorded for the sensors")
         _check_sensor_topics(bag, info, result)
+        _check_messages(bag, info, result)
     return result
+
+
+def _recorded_velocity_limit(bag):
+    """limits.velocity_m_s of the recorded scenario (/railvib/scenario), else the default."""
+    for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
+        try:
+            record = railvib_yaml.load(m.data)
+            value = float(record["config"]["limits"]["velocity_m_s"])
+            if math.isfinite(value) and value > 0:
+                return value
+        except Exception:  # no record, no limits section, not YAML: the default bound
+            pass
+    return railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S
+
+
+def _check_messages(bag, info, result):
+    """Every recorded metrics, snapshot and transform message holds to the message contract
+    (scripts/railvib_contracts.py): a reader would otherwise plot or trust a NaN, a sensor the run
+    does not have, or a grid its values do not fill. The first bad message refuses the bag."""
+    if result.refused:
+        return
+    velocity = _recorded_velocity_limit(bag)
+    sensors = []
+    for _, m, _ in bag.read_messages(topics=[names.SENSOR_SAMPLES]):
+        sensors = list(m.sensor_names)
+        break
+    checks = {}
+    for topic in info:
+        kind = TYPES.get(topic) or sensor_topic_type(topic)
+        if kind == "railvib/VibrationMetrics":
+            checks[topic] = lambda t, m: railvib_contracts.metrics_problem(t, m, velocity, sensors)
+        elif kind == "railvib/SurfaceSnapshot":
+            checks[topic] = lambda t, m: railvib_contracts.surface_snapshot_problem(t, m, velocity)
+        elif kind == "railvib/SectionSnapshot":
+            checks[topic] = lambda t, m: railvib_contracts.section_snapshot_problem(t, m, velocity)
+        elif kind == "tf2_msgs/TFMessage":
+            checks[topic] = railvib_contracts.tf_message_problem
+    if not checks:
+        return
+    for topic, m, stamp in bag.read_messages(topics=sorted(checks)):
+        problem = checks[topic](topic, m)
+        if problem:
+            result.refused = f"a recorded message at t = {stamp.to_sec():.6g} s breaks the message contract: {problem}"
+            return
 
 
 def sensor_topic_type(topic):

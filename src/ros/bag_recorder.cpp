@@ -1,17 +1,31 @@
 #include "railvib/ros/bag_recorder.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/Vector3Stamped.h>
+#include <railvib/BuildingResponse.h>
+#include <railvib/ContactForces.h>
+#include <railvib/PointLayout.h>
+#include <railvib/SectionSnapshot.h>
+#include <railvib/SensorSamples.h>
+#include <railvib/SleeperLayout.h>
+#include <railvib/SoilLoads.h>
+#include <railvib/SurfaceSnapshot.h>
+#include <railvib/SurfaceVelocities.h>
+#include <railvib/VibrationMetrics.h>
+#include <sensor_msgs/Imu.h>
 #include <std_msgs/Header.h>
 #include <std_msgs/String.h>
 #include <sys/statvfs.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <algorithm>
 #include <boost/bind/bind.hpp>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "railvib/common/message_contract.hpp"
 #include "railvib/common/names.hpp"
 #include "railvib/ros/node_config.hpp"
 #include "railvib/signal/virtual_sensor.hpp"
@@ -71,6 +85,46 @@ std_msgs::Header readHeader(std::vector<uint8_t>& bytes) {
   ros::serialization::deserialize(in, h);
   return h;
 }
+
+template <typename M>
+M deserialized(std::vector<uint8_t>& bytes) {
+  M m;
+  ros::serialization::IStream in(bytes.data(), static_cast<uint32_t>(bytes.size()));
+  ros::serialization::deserialize(in, m);
+  return m;
+}
+
+struct MessageType {
+  std::string datatype, md5sum;
+};
+template <typename M>
+MessageType typeOf() {
+  return {ros::message_traits::DataType<M>::value(), ros::message_traits::MD5Sum<M>::value()};
+}
+
+// The message type of each of railvib's topics (resolved names), and of a sensor's own topics.
+std::map<std::string, MessageType> railvibTopicTypes(ros::NodeHandle& nh) {
+  return {{nh.resolveName(names::kContactForcesTopic), typeOf<railvib::ContactForces>()},
+          {nh.resolveName(names::kSoilLoadsTopic), typeOf<railvib::SoilLoads>()},
+          {nh.resolveName(names::kSurfaceVelocitiesTopic), typeOf<railvib::SurfaceVelocities>()},
+          {nh.resolveName(names::kBuildingResponseTopic), typeOf<railvib::BuildingResponse>()},
+          {nh.resolveName(names::kSensorSamplesTopic), typeOf<railvib::SensorSamples>()},
+          {nh.resolveName(names::kSleeperLayoutTopic), typeOf<railvib::SleeperLayout>()},
+          {nh.resolveName(names::kSurfacePointsTopic), typeOf<railvib::PointLayout>()},
+          {nh.resolveName(names::kBuildingPointsTopic), typeOf<railvib::PointLayout>()},
+          {nh.resolveName(names::kSurfaceSnapshotTopic), typeOf<railvib::SurfaceSnapshot>()},
+          {nh.resolveName(names::kSectionSnapshotTopic), typeOf<railvib::SectionSnapshot>()},
+          {nh.resolveName(names::kSensorMetricsTopic), typeOf<railvib::VibrationMetrics>()},
+          {names::kTfTopic, typeOf<tf2_msgs::TFMessage>()},
+          {"/tf_static", typeOf<tf2_msgs::TFMessage>()}};
+}
+
+MessageType sensorTopicType(const std::string& what) {
+  if (what == "metrics") return typeOf<railvib::VibrationMetrics>();
+  if (what == "imu") return typeOf<sensor_msgs::Imu>();
+  if (what == "velocity") return typeOf<geometry_msgs::Vector3Stamped>();
+  return {};
+}
 }  // namespace
 
 BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
@@ -85,17 +139,21 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   private_nh.param("min_free_mb", min_free_mb_, min_free_mb_);
   // The scenario that produces the run (validated like every node's), and its sensors' own topics.
   std::string scenario_yaml;
+  std::map<std::string, MessageType> topic_types = railvibTopicTypes(nh);
   if (nh.hasParam("/railvib/config_file")) {
     const Config config = loadNodeConfig(nh);
     scenario_yaml = scenarioRecordYaml(nh, config);
+    limits_ = loadStreamLimits(config.root());
     bool sensor_topics = false, use_building = true;
     private_nh.param("sensor_topics", sensor_topics, sensor_topics);
     private_nh.param("use_building", use_building, use_building);
-    if (sensor_topics) {
-      for (const auto& sensor : signal::loadVirtualSensorConfig(config.root()).sensors) {
-        if (sensor.source == "building" && !use_building) continue;
-        for (const char* what : {"imu", "velocity", "metrics"})
-          topics.push_back(names::sensorTopic(sensor.spec.name, what));
+    for (const auto& sensor : signal::loadVirtualSensorConfig(config.root()).sensors) {
+      if (sensor.source == "building" && !use_building) continue;
+      sensor_names_.push_back(sensor.spec.name);
+      for (const char* what : {"imu", "velocity", "metrics"}) {
+        const std::string topic = names::sensorTopic(sensor.spec.name, what);
+        topic_types[nh.resolveName(topic)] = sensorTopicType(what);
+        if (sensor_topics) topics.push_back(topic);
       }
     }
   } else {
@@ -151,6 +209,15 @@ BagRecorder::BagRecorder(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
     state.is_stream = is_stream;
     state.is_tf = kind == Kind::Tf;
     if (is_stream) state.tracker = std::make_unique<SampleIndexTracker>(resolved);
+    const auto known = topic_types.find(resolved);
+    if (known != topic_types.end()) {
+      state.datatype = known->second.datatype;
+      state.md5sum = known->second.md5sum;
+    } else if (state.is_tf) {
+      const MessageType tf = typeOf<tf2_msgs::TFMessage>();
+      state.datatype = tf.datatype;
+      state.md5sum = tf.md5sum;
+    }
     boost::function<void(const ros::MessageEvent<topic_tools::ShapeShifter const>&)> cb =
         [this, resolved](const ros::MessageEvent<topic_tools::ShapeShifter const>& e) { onMessage(resolved, e); };
     subscribers_.push_back(nh.subscribe<topic_tools::ShapeShifter>(resolved, 0, cb));
@@ -173,6 +240,16 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
     return;
   }
   std::vector<uint8_t> bytes = serializedBytes(*msg);
+  std::string why_not;
+  try {
+    why_not = refusal(state, topic, *msg, bytes);
+  } catch (const ros::Exception& e) {
+    why_not = std::string("its bytes are not a ") + msg->getDataType() + ": " + e.what();
+  }
+  if (!why_not.empty()) {
+    refuse(state, topic, event.getPublisherName(), why_not);
+    return;
+  }
   ros::Time stamp;
   bool ends_stream = false;
   try {
@@ -237,6 +314,81 @@ void BagRecorder::onMessage(const std::string& topic, const ros::MessageEvent<to
   }
 }
 
+std::string BagRecorder::refusal(TopicState& state, const std::string& topic, const topic_tools::ShapeShifter& msg,
+                                 std::vector<uint8_t>& bytes) const {
+  // A topic carries one type: railvib's for its own topics, else the first message's.
+  if (state.datatype.empty()) {
+    state.datatype = msg.getDataType();
+    state.md5sum = msg.getMD5Sum();
+  }
+  if (msg.getDataType() != state.datatype || msg.getMD5Sum() != state.md5sum) {
+    return "a " + msg.getDataType() + " (MD5 " + msg.getMD5Sum() + ") on a topic of " + state.datatype + " (MD5 " +
+           state.md5sum + ")";
+  }
+  if (state.is_stream) return "";  // the stream contract's checks follow (continuity, period)
+  try {
+    if (state.datatype == ros::message_traits::DataType<railvib::VibrationMetrics>::value()) {
+      const auto m = deserialized<railvib::VibrationMetrics>(bytes);
+      MetricsFields f;
+      f.sensor_name = m.sensor_name;
+      f.kind = m.kind;
+      f.resolved_hz = m.resolved_hz;
+      f.kb_f = m.kb_f;
+      f.kb_f_max = m.kb_f_max;
+      f.ppv_m_s = m.ppv_m_s;
+      f.ppv_vertical_m_s = m.ppv_vertical_m_s;
+      f.governing_component = m.governing_component;
+      f.governing_ppv_m_s = m.governing_ppv_m_s;
+      f.dominant_frequency_hz = m.dominant_frequency_hz;
+      f.din4150_3_limit_m_s = m.din4150_3_limit_m_s;
+      f.third_octave_center_hz = &m.third_octave_center_hz;
+      f.third_octave_level_db = &m.third_octave_level_db;
+      f.din4150_2_verdict = m.din4150_2_verdict;
+      f.din4150_2_a_u = m.din4150_2_a_u;
+      f.din4150_2_a_o = m.din4150_2_a_o;
+      f.din4150_2_a_r = m.din4150_2_a_r;
+      f.din4150_3_verdict = m.din4150_3_verdict;
+      f.verdict = m.verdict;
+      validateMetrics(topic, f, limits_, sensor_names_);
+    } else if (state.datatype == ros::message_traits::DataType<railvib::SurfaceSnapshot>::value()) {
+      const auto m = deserialized<railvib::SurfaceSnapshot>(bytes);
+      validateSurfaceSnapshot(topic, m.origin_x_m, m.origin_y_m, m.spacing_x_m, m.spacing_y_m, m.nx, m.ny,
+                              m.vertical_velocity_m_s, limits_);
+    } else if (state.datatype == ros::message_traits::DataType<railvib::SectionSnapshot>::value()) {
+      const auto m = deserialized<railvib::SectionSnapshot>(bytes);
+      validateSectionSnapshot(topic, m.x_m, m.origin_y_m, m.spacing_y_m, m.ny, m.depth_m, m.vertical_velocity_m_s,
+                              limits_);
+    } else if (state.is_tf) {
+      for (const auto& t : deserialized<tf2_msgs::TFMessage>(bytes).transforms) {
+        const auto& tr = t.transform.translation;
+        const auto& q = t.transform.rotation;
+        const double translation[3] = {tr.x, tr.y, tr.z};
+        const double rotation[4] = {q.x, q.y, q.z, q.w};
+        validateTransform(topic, t.header.frame_id, t.child_frame_id, translation, rotation);
+      }
+    }
+  } catch (const StreamContractError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void BagRecorder::refuse(TopicState& state, const std::string& topic, const std::string& publisher,
+                         const std::string& why) {
+  ++state.refused;
+  if (state.first_refusal.empty()) state.first_refusal = why;
+  if (std::find(state.refused_publishers.begin(), state.refused_publishers.end(), publisher) ==
+          state.refused_publishers.end() &&
+      state.refused_publishers.size() < 16) {
+    state.refused_publishers.push_back(publisher);
+  }
+  // The first ten of each topic and every 100th: a flood of foreign messages does not flood the log.
+  if (state.refused <= 10 || state.refused % 100 == 0) {
+    ROS_WARN("bag_recorder: %s: not recording a message from %s (%lu refused on this topic): %s", topic.c_str(),
+             publisher.c_str(), static_cast<unsigned long>(state.refused), why.c_str());
+  }
+}
+
 void BagRecorder::poll() {
   if (all_streams_complete_ && !finished_ && (ros::WallTime::now() - all_streams_complete_at_).toSec() >= linger_s_) {
     finished_ = true;
@@ -285,8 +437,17 @@ void BagRecorder::writeRecordingStatus(const std::string& status) {
   j["complete_streams"] = complete;
   j["incomplete_streams"] = incompleteStreams();
   nlohmann::json counts = nlohmann::json::object();
-  for (const auto& [name, state] : topics_) counts[name] = state.messages;
+  nlohmann::json refused = nlohmann::json::object();
+  for (const auto& [name, state] : topics_) {
+    counts[name] = state.messages;
+    if (state.refused > 0) {
+      refused[name] = {
+          {"messages", state.refused}, {"first_reason", state.first_refusal}, {"publishers", state.refused_publishers}};
+    }
+  }
   j["messages"] = counts;
+  // Messages kept out of the bag (a wrong type, a broken message contract), per topic.
+  j["refused"] = refused;
   std_msgs::String msg;
   msg.data = j.dump();
   bag_.write(names::kRecordingStatusTopic, std::max(latest_stamp_, ros::TIME_MIN), msg);
@@ -310,9 +471,15 @@ void BagRecorder::close(const std::string& reason) {
     ROS_FATAL("bag_recorder: closing %s failed: %s; the bag is left unindexed (`rosbag reindex` may recover it)",
               bag_path_.c_str(), e.what());
   }
+  uint64_t refused = 0;
   for (const auto& [name, state] : topics_) {
     ROS_INFO("bag_recorder: %-32s %8lu messages%s", name.c_str(), static_cast<unsigned long>(state.messages),
              state.is_stream ? (state.ended ? "  (stream complete)" : "  (stream NOT complete)") : "");
+    if (state.refused > 0) {
+      ROS_WARN("bag_recorder: %-32s %8lu messages refused, not recorded (first: %s)", name.c_str(),
+               static_cast<unsigned long>(state.refused), state.first_refusal.c_str());
+    }
+    refused += state.refused;
   }
   if (!incomplete.empty()) {
     std::string list;
@@ -328,9 +495,11 @@ void BagRecorder::close(const std::string& reason) {
   diagnostic_msgs::DiagnosticStatus st;
   st.name = "railvib/recorder";
   st.hardware_id = "recorder";
-  st.level =
-      failed_ || !incomplete.empty() ? diagnostic_msgs::DiagnosticStatus::ERROR : diagnostic_msgs::DiagnosticStatus::OK;
-  st.message = status;
+  st.level = failed_ || !incomplete.empty() ? diagnostic_msgs::DiagnosticStatus::ERROR
+             : refused > 0                  ? diagnostic_msgs::DiagnosticStatus::WARN
+                                            : diagnostic_msgs::DiagnosticStatus::OK;
+  st.message =
+      status + (refused > 0 ? "; " + std::to_string(refused) + " foreign or malformed message(s) refused" : "");
   diag.status.push_back(st);
   diagnostics_publisher_.publish(diag);
 }

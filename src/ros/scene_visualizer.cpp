@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "railvib/building/params.hpp"
+#include "railvib/common/message_contract.hpp"
 #include "railvib/common/names.hpp"
 #include "railvib/common/site.hpp"
 #include "railvib/ros/node_config.hpp"
@@ -92,6 +93,7 @@ void addSensor(visualization_msgs::MarkerArray& out, const std::string& name, in
 SceneVisualizer::SceneVisualizer(ros::NodeHandle& nh, ros::NodeHandle& private_nh) {
   const Config config = loadNodeConfig(nh);
   rail_gauge_m_ = loadSiteLayout(config.root()).rail_gauge_m;
+  limits_ = loadStreamLimits(config.root());
   site_markers_ = siteMarkers(config);
   private_nh.param("relief_m_per_mm_s", relief_m_per_mm_s_, relief_m_per_mm_s_);
   site_publisher_ = nh.advertise<visualization_msgs::MarkerArray>(names::kSiteMarkersTopic, 1, true);
@@ -221,11 +223,16 @@ void SceneVisualizer::onLayout(const railvib::SleeperLayout::ConstPtr& layout) {
 }
 
 void SceneVisualizer::onSnapshot(const railvib::SurfaceSnapshot::ConstPtr& snapshot) {
-  const size_t n = static_cast<size_t>(snapshot->nx) * snapshot->ny;
-  if (snapshot->vertical_velocity_m_s.size() != n) {
-    ROS_WARN_THROTTLE(5.0, "scene_visualizer: snapshot %lu has %zu values for a %ux%u grid; skipped",
-                      static_cast<unsigned long>(snapshot->sample_index), snapshot->vertical_velocity_m_s.size(),
-                      snapshot->nx, snapshot->ny);
+  // A snapshot stands alone (anyone may publish one): checked before a point of it is drawn.
+  try {
+    validateSurfaceSnapshot(names::kSurfaceSnapshotTopic, snapshot->origin_x_m, snapshot->origin_y_m,
+                            snapshot->spacing_x_m, snapshot->spacing_y_m, snapshot->nx, snapshot->ny,
+                            snapshot->vertical_velocity_m_s, limits_);
+  } catch (const StreamContractError& e) {
+    ++refused_snapshots_;
+    ROS_WARN_THROTTLE(5.0, "scene_visualizer: snapshot %lu skipped (%lu refused so far): %s",
+                      static_cast<unsigned long>(snapshot->sample_index),
+                      static_cast<unsigned long>(refused_snapshots_), e.what());
     return;
   }
   sensor_msgs::PointCloud2 cloud;
@@ -234,7 +241,7 @@ void SceneVisualizer::onSnapshot(const railvib::SurfaceSnapshot::ConstPtr& snaps
   modifier.setPointCloud2Fields(4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32,
                                 "z", 1, sensor_msgs::PointField::FLOAT32, "vertical_velocity_mm_s", 1,
                                 sensor_msgs::PointField::FLOAT32);
-  modifier.resize(n);
+  modifier.resize(static_cast<size_t>(snapshot->nx) * snapshot->ny);
   cloud.height = snapshot->ny;
   cloud.width = snapshot->nx;
   cloud.row_step = cloud.width * cloud.point_step;

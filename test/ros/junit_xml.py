@@ -12,12 +12,24 @@ def write_junit(result, suite_name, case_class, path):
                        failures=str(len(result.failures)), errors=str(len(result.errors)))
     failed = {t.id(): msg for t, msg in result.failures}
     errored = {t.id(): msg for t, msg in result.errors}
+    ids = set()
     for cls in classes:
-        for test in unittest.defaultTestLoader.loadTestsFromTestCase(cls):
+        tests = list(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
+        ids.update(test.id() for test in tests)
+        # A failed setUpClass is reported under an id of its own ("setUpClass (module.Class)"): the checks
+        # it kept from running did not pass.
+        setup_failed = any(cls.__name__ in i and i not in {t.id() for t in tests} for i in errored)
+        for test in tests:
             case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
             if test.id() in failed:
                 ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
             if test.id() in errored:
                 ET.SubElement(case, "error", message="error").text = errored[test.id()]
+            elif setup_failed and test.id() not in failed:
+                ET.SubElement(case, "error", message="not run: the class's setUpClass failed")
+    for test_id, msg in errored.items():
+        if test_id not in ids:
+            case = ET.SubElement(suite, "testcase", classname="setup", name=test_id)
+            ET.SubElement(case, "error", message="error").text = msg
     pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)

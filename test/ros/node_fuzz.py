@@ -38,6 +38,8 @@ import railvib_process  # noqa: E402
 CRASH_MARKERS = ("AddressSanitizer", "UndefinedBehaviorSanitizer", "runtime error:", "LeakSanitizer",
                  "Segmentation fault", "Aborted", "Traceback", "terminate called", "core dumped")
 CONFIG = str(ROOT / "config" / "haren_ci.yaml")
+# The publisher of a SurfaceSnapshot on the section snapshot's topic (a message of another type).
+WRONG_TYPE = "section_snapshot as a SurfaceSnapshot"
 STARTUP_S = float(os.environ.get("RAILVIB_FUZZ_STARTUP_S", "120"))
 OUTCOME_S = float(os.environ.get("RAILVIB_FUZZ_OUTCOME_S", "90"))
 
@@ -76,6 +78,7 @@ class Harness:
         import rospy
         from diagnostic_msgs.msg import DiagnosticArray
         import railvib.msg as rm
+        from tf2_msgs.msg import TFMessage
         self.rospy, self.rm = rospy, rm
         rospy.init_node("node_fuzz", anonymous=True, disable_signals=True)
         rospy.set_param("/railvib/config_file", CONFIG)
@@ -90,6 +93,11 @@ class Harness:
             names.SLEEPER_LAYOUT: rospy.Publisher(names.SLEEPER_LAYOUT, rm.SleeperLayout, queue_size=1, latch=True),
             names.SURFACE_POINTS: rospy.Publisher(names.SURFACE_POINTS, rm.PointLayout, queue_size=1, latch=True),
             names.BUILDING_POINTS: rospy.Publisher(names.BUILDING_POINTS, rm.PointLayout, queue_size=1, latch=True),
+            # What a foreign publisher may put on the non-stream topics the recorder records.
+            names.SENSOR_METRICS: rospy.Publisher(names.SENSOR_METRICS, rm.VibrationMetrics, queue_size=q),
+            names.SURFACE_SNAPSHOT: rospy.Publisher(names.SURFACE_SNAPSHOT, rm.SurfaceSnapshot, queue_size=q),
+            WRONG_TYPE: rospy.Publisher(names.SECTION_SNAPSHOT, rm.SurfaceSnapshot, queue_size=q),
+            "/tf": rospy.Publisher("/tf", TFMessage, queue_size=q),
         }
 
     def _on_diag(self, msg):
@@ -193,6 +201,46 @@ def surface_layout(sc, rm):
 
 def house_layout(sc, rm):
     return point_layout(rm, [{"name": n, "x_m": 0.0, "y_m": 8.0, "z_m": 2.5 * i} for i, n in enumerate(sc.house)])
+
+
+def metrics_message(sc, rm, sensor="ground_2m", **changes):
+    m = rm.VibrationMetrics()
+    header(m, 0.05)
+    m.sensor_name, m.kind, m.resolved_hz = sensor, 0, 50.0
+    m.kb_f, m.kb_f_max, m.ppv_m_s, m.ppv_vertical_m_s = 0.1, 0.2, 1.2e-3, 1.0e-3
+    m.governing_component, m.governing_ppv_m_s, m.dominant_frequency_hz, m.din4150_3_limit_m_s = 2, 1.0e-3, 30.0, 0.02
+    m.third_octave_center_hz, m.third_octave_level_db = [25.0, 31.5, 40.0], [float("-inf"), 110.0, 105.0]
+    m.din4150_2_verdict = m.din4150_3_verdict = m.verdict = 3
+    m.din4150_2_a_u, m.din4150_2_a_o, m.din4150_2_a_r = 0.15, 3.0, 0.07
+    for key, value in changes.items():
+        setattr(m, key, value)
+    return m
+
+
+def snapshot_message(sc, rm, **changes):
+    m = rm.SurfaceSnapshot()
+    header(m, 0.05)
+    m.origin_x_m, m.origin_y_m, m.spacing_x_m, m.spacing_y_m, m.nx, m.ny = -10.0, 1.0, 0.5, 0.5, 2, 2
+    m.vertical_velocity_m_s = [1e-4, -1e-4, 2e-4, 0.0]
+    for key, value in changes.items():
+        setattr(m, key, value)
+    return m
+
+
+def tf_message(sc, rm, translation=(0.0, 15.0, 0.0), rotation=(0.0, 0.0, 0.0, 1.0)):
+    from geometry_msgs.msg import TransformStamped
+    from tf2_msgs.msg import TFMessage
+    t = TransformStamped()
+    header(t, 0.05)
+    t.child_frame_id = "fuzz_frame"
+    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = translation
+    q = t.transform.rotation
+    q.x, q.y, q.z, q.w = rotation
+    return TFMessage(transforms=[t])
+
+
+def message(factory, **changes):
+    return lambda sc, rm: factory(sc, rm, **changes)
 
 
 # ----------------------------------------------------------------- cases
@@ -400,6 +448,24 @@ def cases():
     C.append(("recorder", "valid stream (control)", {}, [(cf, plain(contact_block, 0, 50)),
                                                        (cf, plain(contact_block, 50, 50, True))], "finished",
               "all streams complete"))
+    # A foreign publisher's metrics, snapshots and transforms beside a valid run: the run is recorded
+    # whole, the valid messages recorded, each bad one refused (named, with its publisher) and counted.
+    nan, metrics, snap = float("nan"), names.SENSOR_METRICS, names.SURFACE_SNAPSHOT
+    foreign = [(metrics, message(metrics_message)), (metrics, message(metrics_message, kb_f=nan)),
+               (metrics, message(metrics_message, sensor="ghost")), (metrics, message(metrics_message, verdict=7)),
+               (snap, message(snapshot_message)), (snap, message(snapshot_message, nx=1000)),
+               (snap, message(snapshot_message, spacing_x_m=0.0)), (WRONG_TYPE, message(snapshot_message)),
+               ("/tf", message(tf_message)), ("/tf", message(tf_message, rotation=(0.0, 0.0, 0.0, 0.0))),
+               ("/tf", message(tf_message, translation=(nan, 0.0, 0.0)))]
+    C.append(("recorder", "foreign metrics, snapshots and transforms beside a valid stream (control)", {},
+              [(cf, plain(contact_block, 0, 50))] + foreign + [(cf, plain(contact_block, 50, 50, True))], "finished",
+              "all streams complete",
+              {"topics": [metrics, snap, names.SECTION_SNAPSHOT], "tf_topics": ["/tf"],
+               "recorded": {metrics: 1, snap: 1, "/tf": 1, names.SECTION_SNAPSHOT: 0},
+               "refused": {metrics: 3, snap: 2, names.SECTION_SNAPSHOT: 1, "/tf": 2},
+               "fragments": ["kb_f = nan", "sensor_name 'ghost' is not a sensor of the scenario", "verdict = 7",
+                             "nx x ny = 1000 x 2", "spacing_x_m = 0", "a railvib/SurfaceSnapshot (MD5",
+                             "quaternion has norm 0", "translation.x = nan", "/node_fuzz"]}))
     return C
 
 
@@ -410,8 +476,10 @@ def connected(publisher, caller_id):
 
 
 def run_case(h, sc, index, case):
-    node, title, layouts, blocks, expected, fragment = case
+    node, title, layouts, blocks, expected, fragment, *more = case
+    extra = more[0] if more else {}
     exe, status_name, inputs, needs, params = NODES[node]
+    inputs = sorted({topic for topic, _ in blocks}) if extra else inputs
     rospy, rm = h.rospy, h.rm
     name = f"fuzz_{node}_{index}"
     # Layouts first (latched): this case's, else the valid ones.
@@ -426,6 +494,8 @@ def run_case(h, sc, index, case):
         rospy.set_param(f"/{name}/streams", [names.CONTACT_FORCES])
         rospy.set_param(f"/{name}/bag_path", str(bag))
         rospy.set_param(f"/{name}/linger_s", 0.2)
+        rospy.set_param(f"/{name}/topics", extra.get("topics", []))
+        rospy.set_param(f"/{name}/tf_topics", extra.get("tf_topics", []))
         if title == "existing bag":
             bag.write_bytes(b"an earlier run's results")
     log = open(h.log_dir / f"{name}.log", "w+")
@@ -495,10 +565,32 @@ def run_case(h, sc, index, case):
         try:
             with rosbag.Bag(str(bag)) as b:  # closed cleanly: indexed, readable
                 result["bag_messages"] = b.get_message_count()
+                if extra and result["outcome"] == "finished":
+                    check_recorded(b, extra, output, result)
         except Exception as e:
             result["outcome"] = "crash"
             result["detail"] = f"the bag is not readable: {e}"
     return result
+
+
+def check_recorded(bag, extra, output, result):
+    """What a recorder fed foreign messages kept: the valid ones, and its count of the refused ones."""
+    wrong = []
+    for topic, count in extra["recorded"].items():
+        got = bag.get_message_count(topic_filters=[topic])
+        if got != count:
+            wrong.append(f"{topic}: {got} recorded, {count} expected")
+    status = {}
+    for _, m, _ in bag.read_messages(topics=[names.RECORDING_STATUS]):
+        status = json.loads(m.data)
+    refused = {topic: entry.get("messages") for topic, entry in status.get("refused", {}).items()}
+    if refused != extra["refused"]:
+        wrong.append(f"refused per topic {refused}, expected {extra['refused']}")
+    wrong += [f"'{f}' not in the recorder's output" for f in extra["fragments"] if f not in output]
+    if wrong:
+        result["outcome"] = "failed"
+        result["detail"] = "; ".join(wrong)
+        result["log"] = output[-3000:]
 
 
 def run(selected_nodes=None, only=None, progress=True):

@@ -17,6 +17,14 @@
 // reported incomplete); a write error closes it too. Closing writes a std_msgs/String (JSON) on
 // names::kRecordingStatusTopic into the bag: the expected streams, which are complete, why it
 // closed, so the bag itself tells whether the run was whole (scripts/bag_check.py).
+//
+// Nothing on a topic is trusted because of its name: a message whose type is not the topic's
+// (railvib's topics have theirs; another topic takes its first message's) is not recorded, nor a
+// metrics, snapshot or transform message that breaks the message contract
+// (railvib/common/message_contract.hpp: a NaN, a sensor the scenario does not have, a grid its
+// values do not fill, a rotation that is not one). Each refusal is logged with the publisher and
+// counted in the recording status ("refused"), so a foreign publisher cannot put into the bag what
+// the reports would plot.
 #pragma once
 
 #include <ros/ros.h>
@@ -29,6 +37,7 @@
 #include <vector>
 
 #include "railvib/common/sample_stream.hpp"
+#include "railvib/common/stream_contract.hpp"
 
 namespace railvib::ros_io {
 
@@ -60,8 +69,17 @@ class BagRecorder {
     bool ended = false;
     uint64_t messages = 0;
     ros::Time first_stamp, last_stamp;
+    std::string datatype;  ///< the topic's message type (railvib's, or its first message's)
+    std::string md5sum;    ///< and its MD5 sum ("" until known)
+    uint64_t refused = 0;  ///< messages not recorded (wrong type, contract broken)
+    std::string first_refusal;
+    std::vector<std::string> refused_publishers;
   };
   void onMessage(const std::string& topic, const ros::MessageEvent<topic_tools::ShapeShifter const>& event);
+  /// Why a non-stream message may not be recorded ("" if it may): its type, then its contract.
+  std::string refusal(TopicState& state, const std::string& topic, const topic_tools::ShapeShifter& msg,
+                      std::vector<uint8_t>& bytes) const;
+  void refuse(TopicState& state, const std::string& topic, const std::string& publisher, const std::string& why);
   bool roomToWrite(size_t next_bytes) const;
   std::string describeSpace() const;
   std::vector<std::string> incompleteStreams() const;
@@ -81,6 +99,8 @@ class BagRecorder {
   uint64_t message_count_ = 0;
   ros::Time latest_stamp_;
   std::map<std::string, TopicState> topics_;
+  StreamLimits limits_;                    ///< the scenario's `limits` (the defaults without a scenario)
+  std::vector<std::string> sensor_names_;  ///< the scenario's virtual sensors (metrics must name one)
   std::vector<ros::Subscriber> subscribers_;
   ros::Publisher status_publisher_, diagnostics_publisher_, scenario_publisher_;
 };

@@ -19,6 +19,7 @@
 #include "railvib/SleeperLayout.h"
 #include "railvib/SurfaceSnapshot.h"
 #include "railvib/common/config.hpp"
+#include "railvib/common/stream_contract.hpp"
 
 namespace railvib::ros_io {
 
@@ -39,6 +40,8 @@ class SceneVisualizer {
 
   visualization_msgs::MarkerArray site_markers_;
   double rail_gauge_m_ = 1.435;
+  StreamLimits limits_;             ///< the scenario's `limits` (snapshot values are checked against them)
+  uint64_t refused_snapshots_ = 0;  ///< snapshots that broke the message contract, not drawn
   double relief_m_per_mm_s_ = 0.1;
   railvib::SleeperLayout::ConstPtr layout_;
   ros::Subscriber layout_subscriber_, snapshot_subscriber_;
