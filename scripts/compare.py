@@ -47,7 +47,6 @@ import subprocess
 import sys
 
 import numpy as np
-import yaml
 
 import matplotlib
 
@@ -98,6 +97,7 @@ class SensorRun:
             self.dt = ss[0].sample_period_s
             self.t = np.arange(len(self.v)) * self.dt
             scenario, _ = report.scenario_record(bag)
+            self.record = scenario
             self.mesh_f_max_hz = report.config_number((scenario or {}).get("config"), "soil.mesh.f_max_hz")
             # The wheels' contact forces (when recorded): name, static (first sample), min and max per wheel.
             self.wheels = []
@@ -183,18 +183,71 @@ def level_differences(outdir, a, b, sensor, label_a, label_b):
     return lines, bands
 
 
+# What a scenario record holds that says nothing about the physics of the run.
+NOT_THE_SCENARIO = ("bag", "config", "command_line", "railvib_version", "config_file", "output_dir")
+
+
+def flattened(node, prefix=""):
+    """{dotted key: value} of a nested mapping (lists as values)."""
+    out = {}
+    if isinstance(node, dict):
+        for k, v in node.items():
+            out.update(flattened(v, f"{prefix}{k}."))
+    else:
+        out[prefix[:-1]] = node
+    return out
+
+
+def differences(record_a, record_b):
+    """[(key, value in A, value in B)] where the two runs' scenarios differ: the resolved configuration
+    and the launch arguments of their records; None when a record is missing."""
+    if not record_a or not record_b:
+        return None
+    a = flattened(record_a.get("config") or {})
+    b = flattened(record_b.get("config") or {})
+    for record, flat in ((record_a, a), (record_b, b)):
+        for k, v in (record.get("launch_arguments") or {}).items():
+            if k not in NOT_THE_SCENARIO:
+                flat[f"launch {k}"] = v
+    return [(k, a.get(k, "(unset)"), b.get(k, "(unset)")) for k in sorted(set(a) | set(b))
+            if a.get(k, "(unset)") != b.get(k, "(unset)")]
+
+
+def short(value, width=18):
+    text = str(value)
+    return text if len(text) <= width else text[:width - 1] + "~"
+
+
+def run_labels(name_a, name_b, diffs, shown=2):
+    """Legend labels that name what differs between the runs (the first `shown` keys, then how many more)."""
+    if diffs is None:
+        return name_a, name_b
+    if not diffs:
+        return f"{name_a} (same scenario)", f"{name_b} (same scenario)"
+    more = f", +{len(diffs) - shown} more" if len(diffs) > shown else ""
+    # A long key path by its last two parts (the table in compare.md gives it whole).
+    label = lambda side: ", ".join(f"{'.'.join(k.split('.')[-2:]) if len(k) > 40 else k}={short(v[side])}"  # noqa: E731
+                                   for k, *v in diffs[:shown]) + more
+    return f"{name_a}: {label(0)}", f"{name_b}: {label(1)}"
+
+
 def compare_sensors(a, b, name_a, name_b, outdir, measured=None):
     """Each common sensor of runs a and b: figure, Markdown table and JSON of the metric differences
     (MEASURED: a is a measured record, and the levels per band are given as simulated - measured)."""
     common = [s for s in a.sensors if s in b.sensors]
     if not common:
         die(f"the runs have no sensor in common ({', '.join(a.sensors)} / {', '.join(b.sensors)})")
-    fig, axes = plt.subplots(len(common), 3, figsize=(15, 2.8 * len(common)), squeeze=False)
+    fig, axes = plt.subplots(len(common), 3, figsize=(15, 2.8 * len(common) + 0.5), squeeze=False,
+                             constrained_layout=True)
     rows = {}
     mesh = [m for m in (a.mesh_f_max_hz, b.mesh_f_max_hz) if m is not None]
+    diffs = None if measured else differences(getattr(a, "record", None), getattr(b, "record", None))
+    label_a, label_b = run_labels(name_a, name_b, diffs)
+    if measured:
+        label_a, label_b = f"{name_a} (measured)", f"{name_b} (simulated)"
     for i, sensor in enumerate(common):
         results = {}
-        for run, label, colour, tag in ((a, name_a, "C0", "a"), (b, name_b, "C3", "b")):
+        for run, label, colour, tag in ((a, label_a, "C0", "a"), (b, label_b, "C3", "b")):
             v = run.v[:, run.sensors.index(sensor), :]
             summary, kbf, _ = metrics(run.t, v, outdir, f"{sensor}_{tag}")
             results[tag] = summary
@@ -215,8 +268,7 @@ def compare_sensors(a, b, name_a, name_b, outdir, measured=None):
             return {"ppv_z_mm_s": vz["ppv_mm_s"], "vector_ppv_mm_s": summary["din4150_3"]["vector_peak_mm_s"],
                     "kb_fmax": summary["din4150_2"]["kb_fmax"], "dominant_frequency_z_hz": vz["dominant_frequency_hz"]}
         rows[sensor] = {"a": figures_of(results["a"]), "b": figures_of(results["b"])}
-    fig.suptitle(f"{name_b} (red) against {name_a} (blue)")
-    fig.tight_layout()
+    fig.suptitle(f"B: {name_b} (red) against A: {name_a} (blue)", fontsize=10)
     fig.savefig(outdir / "sensors.png", dpi=110)
     plt.close(fig)
     lines = [f"# railvib: `{name_b}` (B) against `{name_a}` (A)", "",
@@ -253,9 +305,21 @@ def compare_sensors(a, b, name_a, name_b, outdir, measured=None):
                       f"{1 / a.dt:g} Hz and {a.alignment}."]
         band_lines, bands = level_differences(outdir, a, b, common[0], "measured", "simulated")
         lines += band_lines
+    if diffs is not None:
+        lines += ["", "What differs between the runs' scenarios (their records: the resolved configuration and the "
+                      "launch arguments):", ""]
+        if diffs:
+            lines += ["| key | A | B |", "|---|---|---|"] + [f"| {k} | {va} | {vb} |" for k, va, vb in diffs]
+        else:
+            lines.append("nothing: the two runs had the same scenario.")
+    elif not measured:
+        lines += ["", "What differs between the runs is not known: a bag without its scenario record."]
     lines += ["", "![sensors](sensors.png)"]
     (outdir / "compare.md").write_text("\n".join(lines) + "\n")
     (outdir / "compare.json").write_text(json.dumps({"bag_a": name_a, "bag_b": name_b, "figures": ["sensors.png"],
+                                                     "legend": [label_a, label_b],
+                                                     "differences": None if diffs is None else
+                                                     [{"key": k, "a": va, "b": vb} for k, va, vb in diffs],
                                                      "sensors": rows, "contact_forces": wheels,
                                                      "bands_z": bands,
                                                      "measured_offset_s": getattr(a, "offset_s", None)}, indent=1))

@@ -15,31 +15,34 @@ Start it next to `./railvib run` (or `roslaunch railvib haren.launch`) or a repl
 (`roslaunch railvib replay.launch bag:=FILE`). Without --sensors it discovers the sensors from the
 published /sensors/<name>/velocity topics, waiting until some appear. A looping replay restarts
 simulation time at 0: the monitor sees each sensor's stamps jump back and clears that sensor's
-plots. On exit (window closed, Ctrl+C, SIGTERM or --exit-after) it prints one JSON line with the
-velocity samples and metrics messages received per sensor.
+plots. A message that breaks the message contract (scripts/railvib_contracts.py: a NaN, a metrics
+message naming another sensor, codes out of their range; a foreign publisher's) is not shown, and
+said. On exit (window closed, Ctrl+C, SIGTERM or --exit-after) it prints one JSON line with the
+velocity samples, metrics messages and refused messages received per sensor.
 """
 import argparse
 import collections
 import json
+import math
 import os
 import signal
-import subprocess
 import sys
 import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import railvib_contracts  # noqa: E402
 import railvib_names as names  # noqa: E402
-import railvib_paths  # noqa: E402
+import railvib_plots  # noqa: E402
 import railvib_verdicts  # noqa: E402
 
 # Velocity components in the sensor's frame; the colours are also what test_monitor.py looks for.
-COMPONENT_NAMES = ("x", "y", "z")
-COMPONENT_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c")
+COMPONENT_NAMES = railvib_plots.COMPONENT_NAMES
+COMPONENT_COLOURS = railvib_plots.COMPONENT_COLOURS
 KB_F_COLOUR = "#6a3d9a"
 A_U_COLOUR = "#e08214"
 A_O_COLOUR = "#b2182b"
-BAR_COLOUR = "#8da0cb"
+BAR_COLOUR = railvib_plots.BAR_COLOUR
 # VibrationMetrics.VERDICT_OK / _WARN / _ERROR / _NOT_APPLICABLE / _NOT_ASSESSABLE (names: railvib_verdicts).
 VERDICT_COLOURS = {0: "#1a7a3a", 1: "#c77800", 2: "#c0141c", 3: "#555555", 4: "#7a4fa0", None: "#555555"}
 VELOCITY_TYPE = "geometry_msgs/Vector3Stamped"
@@ -56,30 +59,6 @@ def log(text):
         sys.stdout.flush()
 
 
-def load_din_guides():
-    """(frequency_hz, limit_mm_s, None) of the DIN 4150-3 residential guideline from the core, or
-    (None, None, reason): the curve is the core's, the monitor computes no limit itself."""
-    tool = railvib_paths.find_railvib_tool()
-    if tool is None:
-        return None, None, "railvib_tool not found (build the workspace: ./railvib setup)"
-    try:
-        run = subprocess.run([tool, "din-guides"], capture_output=True, text=True, timeout=60)
-    except (OSError, subprocess.TimeoutExpired) as error:
-        return None, None, f"railvib_tool din-guides: {error}"
-    if run.returncode != 0:
-        last = (run.stderr.strip().splitlines() or ["no output"])[-1]
-        return None, None, f"railvib_tool din-guides failed (exit {run.returncode}): {last}"
-    try:
-        curve = json.loads(run.stdout)["din4150_3_residential"]
-        frequency_hz = [float(f) for f in curve["frequency_hz"]]
-        limit_mm_s = [float(v) for v in curve["limit_mm_s"]]
-    except (ValueError, KeyError, TypeError) as error:
-        return None, None, f"railvib_tool din-guides: unexpected output ({error})"
-    if not frequency_hz or len(frequency_hz) != len(limit_mm_s):
-        return None, None, "railvib_tool din-guides: empty or inconsistent DIN 4150-3 curve"
-    return frequency_hz, limit_mm_s, None
-
-
 class SensorBuffers:
     """What the ROS callbacks of one sensor collected; every field is guarded by `lock`."""
 
@@ -93,6 +72,7 @@ class SensorBuffers:
         self.passes = 0  # runs of increasing simulation time (a looping replay starts a new one)
         self.last_velocity_t_s = None
         self.last_metrics_t_s = None
+        self.refused_count = 0  # messages that broke the message contract (a foreign publisher): not shown
 
 
 class Monitor:
@@ -105,9 +85,11 @@ class Monitor:
         self.status = "waiting for the ROS master"
         self.newest_pass = 0  # the highest pass number any sensor has started (guarded by sensors_lock)
         self.stopping = threading.Event()
-        self.guide_frequency_hz, self.guide_limit_mm_s, self.guide_error = load_din_guides()
-        if self.guide_error:
-            print("monitor: warning: no DIN 4150-3 guideline line: " + self.guide_error, file=sys.stderr, flush=True)
+        # The DIN 4150-3 guideline as the report draws it (scripts/railvib_plots.py, from the core).
+        self.guidelines = railvib_plots.load_guidelines()
+        if self.guidelines.error:
+            print("monitor: warning: no DIN 4150-3 guideline line: " + self.guidelines.error, file=sys.stderr,
+                  flush=True)
         # The topic pattern comes from railvib_names, with a placeholder in the sensor's place.
         placeholder = "\0"
         self.topic_prefix, self.topic_suffix = names.sensor_topic(placeholder, "velocity").split(placeholder)
@@ -186,9 +168,25 @@ class Monitor:
         while buffer and buffer[0][0] < newest_t_s - self.window_s:
             buffer.popleft()
 
+    def refuse(self, buffers, problem):
+        """A message that breaks the contract is not shown; the first of each sensor and every 100th is said."""
+        with buffers.lock:
+            buffers.refused_count += 1
+            count = buffers.refused_count
+        if count == 1 or count % 100 == 0:
+            log(f"refused {count} message(s) so far, not shown: {problem}")
+
     def on_velocity(self, msg, name):
         t_s = msg.header.stamp.to_sec()
         buffers = self.sensors[name]
+        topic = names.sensor_topic(name, "velocity")
+        v = (msg.vector.x, msg.vector.y, msg.vector.z)
+        bad = [(axis, x) for axis, x in zip("xyz", v) if not abs(x) <= railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S]
+        if bad or not math.isfinite(t_s):
+            self.refuse(buffers, f"topic {topic}: " + (f"vector.{bad[0][0]} = {bad[0][1]:g}: must be finite with "
+                                                       f"magnitude <= {railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S:g} m/s"
+                                                       if bad else f"stamp {t_s} is not a time"))
+            return
         restarted_from = None
         with buffers.lock:
             if buffers.last_velocity_t_s is None or t_s < buffers.last_velocity_t_s:
@@ -214,6 +212,12 @@ class Monitor:
     def on_metrics(self, msg, name):
         t_s = msg.header.stamp.to_sec()
         buffers = self.sensors[name]
+        # The message names its sensor: it must be the one whose topic it came on.
+        problem = railvib_contracts.metrics_problem(names.sensor_topic(name, "metrics"), msg,
+                                                    known_sensors=[name])
+        if problem:
+            self.refuse(buffers, problem)
+            return
         with buffers.lock:
             if buffers.last_metrics_t_s is not None and t_s < buffers.last_metrics_t_s:
                 buffers.kb_f.clear()
@@ -224,7 +228,8 @@ class Monitor:
             self.trim(buffers.kb_f, t_s)
 
     def counts(self):
-        result = {"velocity_samples": {}, "metrics_messages": {}, "passes": {}, "window_velocity_samples": {}}
+        result = {"velocity_samples": {}, "metrics_messages": {}, "passes": {}, "window_velocity_samples": {},
+                  "refused_messages": {}}
         with self.sensors_lock:
             items = list(self.sensors.items())
         for name, buffers in items:
@@ -233,7 +238,8 @@ class Monitor:
                 result["metrics_messages"][name] = buffers.metrics_count
                 result["passes"][name] = buffers.passes
                 result["window_velocity_samples"][name] = len(buffers.velocity)
-        result["din4150_3_guideline_points"] = len(self.guide_frequency_hz or [])
+                result["refused_messages"][name] = buffers.refused_count
+        result["din4150_3_guideline_points"] = len(self.guidelines.frequency_hz)
         return result
 
 
@@ -314,20 +320,13 @@ class MonitorWindow:
                                                   fontsize=7, color=A_O_COLOUR)
             artists["kb_f_title"] = kb_f_axes.set_title("KB_F(t), DIN 4150-2", loc="left", fontsize=8)
             ppv_axes = figure.add_subplot(grid[row, 2])
-            ppv_axes.set_yscale("log")
-            if self.monitor.guide_frequency_hz:
-                ppv_axes.plot(self.monitor.guide_frequency_hz, self.monitor.guide_limit_mm_s, color="black", lw=1.2)
-                ppv_axes.set_xlim(0.0, max(self.monitor.guide_frequency_hz))
-            else:
-                ppv_axes.text(0.5, 0.5, "no DIN 4150-3 guideline:\n" + self.monitor.guide_error, ha="center",
-                              va="center", transform=ppv_axes.transAxes, fontsize=7, color="#c0141c", wrap=True)
-                ppv_axes.set_xlim(0.0, 100.0)
-            ppv_axes.set_ylim(0.01, 50.0)
-            artists["ppv_marker"] = ppv_axes.plot([], [], "o", ms=7, mec="black", mew=0.8)[0]
+            # The sensor's kind is known from its first metrics message: drawn again then (ppv_kind).
+            railvib_plots.din4150_3_axes(ppv_axes, self.monitor.guidelines)
+            artists["ppv_kind"] = None
+            artists["ppv_marker"] = railvib_plots.mark_ppv(ppv_axes, float("nan"), float("nan"), 2)
             artists["ppv_text"] = ppv_axes.text(0.02, 0.97, "", transform=ppv_axes.transAxes, va="top", fontsize=7)
-            ppv_axes.set_title("PPV (mm/s) vs DIN 4150-3 residential", loc="left", fontsize=8)
             octave_axes = figure.add_subplot(grid[row, 3])
-            octave_axes.set_title("1/3 octaves, dB re 1e-9 m/s", loc="left", fontsize=8)
+            railvib_plots.third_octave_axes(octave_axes)
             artists["bars"] = None
             artists["bar_centres_hz"] = None
             for axes in (velocity_axes, kb_f_axes, ppv_axes, octave_axes):
@@ -336,8 +335,9 @@ class MonitorWindow:
             if row == rows - 1:
                 velocity_axes.set_xlabel("simulation time (s)", fontsize=8)
                 kb_f_axes.set_xlabel("simulation time (s)", fontsize=8)
-                ppv_axes.set_xlabel("frequency (Hz)", fontsize=8)
-                octave_axes.set_xlabel("band centre (Hz)", fontsize=8)
+            else:
+                ppv_axes.set_xlabel("")
+                octave_axes.set_xlabel("")
             artists["axes"] = {"velocity": velocity_axes, "kb_f": kb_f_axes, "ppv": ppv_axes,
                                "third_octave": octave_axes}
             self.rows[name] = artists
@@ -460,6 +460,20 @@ class MonitorWindow:
         artists["kb_f_text"].set_text("" if a_u is not None and a_o is not None
                                       else "A_u / A_o not in the messages (rebuild railvib)")
 
+        kind = railvib_verdicts.kind_name(metrics.kind)
+        if artists["ppv_kind"] != kind:
+            # The guideline that applies where the sensor stands (free field: none, drawn grey).
+            ppv_axes = axes["ppv"]
+            for line in list(ppv_axes.lines):
+                if line is not artists["ppv_marker"]:
+                    line.remove()
+            for text in list(ppv_axes.texts):
+                if text is not artists["ppv_text"]:
+                    text.remove()
+            railvib_plots.din4150_3_axes(ppv_axes, self.monitor.guidelines, kind=kind)
+            if name != self.row_names[-1]:
+                ppv_axes.set_xlabel("")
+            artists["ppv_kind"] = kind
         component = metrics.governing_component if metrics.governing_component < 3 else 2
         governing_mm_s = metrics.governing_ppv_m_s * 1e3
         if governing_mm_s > 0.0:
@@ -479,12 +493,10 @@ class MonitorWindow:
         octave_axes = artists["axes"]["third_octave"]
         if not centres_hz or len(centres_hz) != len(levels_db):
             return
-        levels = np.array(levels_db, dtype=float)
-        finite = levels[np.isfinite(levels)]
-        if not len(finite):
+        bottom, top = railvib_plots.third_octave_floor(levels_db)
+        if bottom is None:
             return
-        top = float(finite.max()) + 5.0
-        bottom = max(float(finite.min()) - 5.0, top - 80.0)  # an empty band would flatten the others
+        levels = np.array(levels_db, dtype=float)
         levels = np.where(np.isfinite(levels), np.maximum(levels, bottom), bottom)
         if artists["bar_centres_hz"] != centres_hz:
             if artists["bars"] is not None:
@@ -492,10 +504,7 @@ class MonitorWindow:
             positions = np.arange(len(centres_hz))
             artists["bars"] = octave_axes.bar(positions, levels - bottom, bottom=bottom, width=0.8, color=BAR_COLOUR)
             artists["bar_centres_hz"] = centres_hz
-            step = max(1, len(centres_hz) // 8)
-            octave_axes.set_xticks(positions[::step])
-            octave_axes.set_xticklabels([f"{c:g}" for c in centres_hz[::step]])
-            octave_axes.set_xlim(-0.6, len(centres_hz) - 0.4)
+            railvib_plots.third_octave_ticks(octave_axes, centres_hz, positions)
         for bar, level in zip(artists["bars"], levels):
             bar.set_y(bottom)
             bar.set_height(level - bottom)

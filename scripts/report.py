@@ -16,7 +16,9 @@ and writes into OUTDIR (default: BAG without .bag + "_report"):
                        governing component, DIN 4150 verdicts: what the live sensors recorded in
                        the bag), the DIN 4150-2 exposure (KB_FTr) and the figures;
   *.png                contact forces (with a zoom on the impacts), sensors (time history,
-                       spectrum, KB_F), wave field, house vs free field;
+                       spectrum, KB_F), standards (per sensor: one-third octave levels and each
+                       component's PPV against the DIN 4150-3 guideline that applies there, drawn
+                       as the live monitor draws them), wave field, house vs free field;
   scenario.yaml        the run's resolved configuration (after includes and overrides), when recorded;
   report.json          what the figures show (guide values, impact times, frequency range, windows),
                        for tests and scripts.
@@ -42,6 +44,7 @@ from matplotlib.transforms import blended_transform_factory  # noqa: E402
 
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_plots  # noqa: E402
 import railvib_yaml  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 from railvib_paths import find_railvib_tool, OutputDirError, output_dir  # noqa: E402
@@ -154,6 +157,44 @@ def metrics(t, v_m_s, outdir, name, exposure_s=None, period=None, kind=None, res
         die(f"railvib_tool metrics failed for {name}: {out.stderr.strip()}")
     kbf = np.genfromtxt(outdir / f"{name}_kbf.csv", delimiter=",", names=True)
     return json.loads(out.stdout), kbf
+
+
+def standards_figure(sensor_names, live, summaries, resolved_hz, path):
+    """Per sensor, the figures the standards use (scripts/railvib_plots.py, as the live monitor draws
+    them): the one-third octave band levels of the three components over the record, and each
+    component's peak at its dominant frequency against the DIN 4150-3 guideline that applies where the
+    sensor stands (none in the free field: drawn grey). Returns what was drawn, per sensor."""
+    guidelines = railvib_plots.load_guidelines()
+    ns = len(sensor_names)
+    fig, axes = plt.subplots(ns, 2, figsize=(12, 2.9 * ns + 0.4), squeeze=False, constrained_layout=True)
+    drawn = {}
+    for i, name in enumerate(sensor_names):
+        summary, kind = summaries[name], sensor_kind(live[name])
+        bands = summary["third_octave"]["components"]
+        centres = [b["nominal_hz"] for b in bands[0]["levels"]]
+        levels = {c: [b["level_db"] for b in bands[c]["levels"]] for c in range(3)}
+        railvib_plots.third_octave_bars(axes[i][0], centres, levels, resolved_hz)
+        axes[i][0].set_title(f"{name}: one-third octave levels over the record, dB re 1e-9 m/s", loc="left",
+                             fontsize=9)
+        axes[i][0].legend(fontsize=6, loc="upper right", ncol=2)
+        railvib_plots.din4150_3_axes(axes[i][1], guidelines, kind=kind, fontsize=9,
+                                     title=f"{name} ({kind or 'kind not recorded'}): PPV vs DIN 4150-3",
+                                     resolved_hz=resolved_hz)
+        points = []
+        for c, component in enumerate(summary["din4150_3"]["components"]):
+            ppv, f = component["ppv_mm_s"], component["dominant_frequency_hz"]
+            if ppv > 0 and f and f > 0:
+                railvib_plots.mark_ppv(axes[i][1], f, ppv, c, label=f"v_{railvib_plots.COMPONENT_NAMES[c]}")
+                points.append({"component": railvib_plots.COMPONENT_NAMES[c], "ppv_mm_s": ppv, "frequency_hz": f})
+        axes[i][1].legend(fontsize=6, loc="best")
+        axes[i][1].set_ylabel("PPV (mm/s)", fontsize=9)
+        drawn[name] = {"kind": kind, "bands": len(centres), "ppv_points": points,
+                       "guideline": "free field: not applicable" if kind == "free_field" else
+                       ("floor values" if kind == "floor" else "foundation curve"),
+                       "guideline_error": guidelines.error}
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return drawn
 
 
 def names_in_order(ss, live):
@@ -613,12 +654,14 @@ def main(argv):
             period, period_how = din_period(config, live)
             shown["sensors"] = {}
             rated = {}
+            summaries = {}
             fig, axes = plt.subplots(ns, 3, figsize=(14, 2.9 * ns), squeeze=False)
             for i, name in enumerate(sensor_names):
                 m = live[name]
                 summary, kbf = metrics(t, v[:, i, :], outdir, name, exposure_s=exposure_s, period=period,
                                        kind=sensor_kind(m), resolved_hz=getattr(m, "resolved_hz", None))
                 rated[name] = summary["din4150_2"]
+                summaries[name] = summary
                 governing = int(m.governing_component) if m.governing_component in (0, 1, 2) else 2
                 plotted = [2] + ([governing] if governing != 2 else [])
                 a_u, a_o, guide_how = guide_values(m, period)
@@ -652,6 +695,9 @@ def main(argv):
             fig.savefig(outdir / "sensors.png", dpi=110)
             plt.close(fig)
             figures.append("sensors.png")
+            shown["standards"] = standards_figure(sensor_names, live, summaries, mesh_f_max_hz,
+                                                  outdir / "standards.png")
+            figures.append("standards.png")
             lines += ["## Virtual sensors", "",
                       "| sensor | kind | KB_Fmax | PPV, vector [mm/s] | governing component: peak [mm/s] | "
                       "its frequency [Hz] | its DIN 4150-3 limit [mm/s] | DIN 4150-2 | DIN 4150-3 |",
@@ -816,6 +862,12 @@ def main(argv):
                   f"with a rectangular window, in (mm/s)/Hz (a passage is a transient: its spectrum is a density, "
                   f"not the amplitude of a steady sine; a sine of amplitude A lasting T gives A T/2). Every spectrum "
                   f"spans 0-{f_max_hz:g} Hz; {mesh}.", ""]
+    if "standards.png" in figures:
+        lines += ["Standards (`standards.png`, drawn as the live monitor draws them): per sensor the one-third "
+                  "octave levels of v_x, v_y, v_z over the record (dB re 1e-9 m/s, ISO 1683; bands above the "
+                  "resolved frequency shaded) and each component's peak at its dominant frequency against the "
+                  "DIN 4150-3 guideline where the sensor stands: the foundation curve (Table 1, row 2), on a floor "
+                  "15 mm/s horizontal and 20 mm/s vertical, in the free field none (the curve grey, for scale).", ""]
     if "wave_field.png" in figures:
         wf = shown["wave_field"]
         span = (f"{wf['window_s'][0]:.2f}-{wf['window_s'][1]:.2f} s ({wf['window_source']}), the whole record below"

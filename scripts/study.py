@@ -343,10 +343,18 @@ def plot_against(outdir, rows, keys):
             x = [p for p, _ in points]
             axes[0].plot(x, [r["ppv_mm_s"] for _, r in points], "o-", label=label)
             axes[1].plot(x, [r["kb_f_max"] for _, r in points], "o-", label=label)
-        for ax, ylabel in zip(axes, ("PPV [mm/s]", "KB_Fmax [-]")):
+        # Vibration levels span decades (the 2 m sensor against the house): log axes, as the standards'
+        # own figures have them; a numeric key spanning more than a decade on a log axis too.
+        positive_x = numeric and all(v > 0 for v in values)
+        log_x = positive_x and max(values) >= 10.0 * min(values)
+        for ax, ylabel, field in zip(axes, ("PPV [mm/s]", "KB_Fmax [-]"), ("ppv_mm_s", "kb_f_max")):
             ax.set_xlabel(key + (f" [{UNITS[key]}]" if key in UNITS else ""))
             ax.set_ylabel(ylabel)
-            ax.grid(alpha=0.3)
+            if all(r[field] > 0 for r in good):
+                ax.set_yscale("log")
+            if log_x:
+                ax.set_xscale("log")
+            ax.grid(alpha=0.3, which="both")
             if not numeric:
                 ax.set_xticks(range(len(values)))
                 ax.set_xticklabels([str(v) for v in values])

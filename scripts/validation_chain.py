@@ -21,7 +21,6 @@ that agreed no longer agrees. Give the --config/--set of the run so the house an
 are those of the bag.
 """
 import argparse
-import os
 import pathlib
 import subprocess
 import sys

@@ -333,8 +333,10 @@ int dinGuides(const std::vector<std::string>& args) {
     f_hz.push_back(f);
     limit.push_back(din4150_3ResidentialLimitMmS(f));
   }
-  printJson(
-      {{"din4150_2_residential", din2}, {"din4150_3_residential", {{"frequency_hz", f_hz}, {"limit_mm_s", limit}}}});
+  printJson({{"din4150_2_residential", din2},
+             {"din4150_3_residential", {{"frequency_hz", f_hz}, {"limit_mm_s", limit}}},
+             {"din4150_3_floors",
+              {{"horizontal_mm_s", kDin4150_3FloorHorizontalMmS}, {"vertical_mm_s", kDin4150_3FloorVerticalMmS}}}});
   return 0;
 }
 

@@ -12,7 +12,9 @@ screen with `xwd -root` and stops the monitor, which prints its counts as JSON. 
 - the screen grab is not blank, and the three velocity colours are drawn inside each sensor's
   velocity axes (where the monitor's printed layout says they are);
 - the monitor's own PNG (--screenshot) is the figure's canvas;
-- the DIN 4150-3 guideline curve came from the core (railvib_tool din-guides).
+- the DIN 4150-3 guideline curve came from the core (railvib_tool din-guides);
+- a foreign publisher's messages on the sensors' topics (KB_F NaN, another sensor's name, a verdict
+  code out of range, a NaN velocity) are refused, counted apart, and not shown.
 Every process it starts (roscore, Xvfb, the monitor) is stopped, also when a step fails.
 
 usage: test_monitor.py [JUNIT_XML]
@@ -29,7 +31,6 @@ import tempfile
 import threading
 import time
 import unittest
-import xml.etree.ElementTree as ET
 
 import numpy as np
 
@@ -40,6 +41,8 @@ import monitor  # noqa: E402  (its colours and layout line; importing it starts 
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
 from rviz_screenshot import xwd_to_rgb  # noqa: E402
+sys.path.insert(0, str(ROOT / "test" / "ros"))
+from junit_xml import write_junit  # noqa: E402
 
 import matplotlib.image  # noqa: E402  (rviz_screenshot has chosen the Agg backend)
 
@@ -80,20 +83,10 @@ def core_services_up(uri):
         return False
 
 
-def stop(process, first_signal=signal.SIGINT, timeout_s=10.0):
-    """Ends a process the test started, and its children (each runs in a session of its own)."""
-    if process is None or process.poll() is not None:
-        return
-    for sig in (first_signal, signal.SIGKILL):
-        try:
-            os.killpg(process.pid, sig)
-        except ProcessLookupError:
-            return
-        try:
-            process.wait(timeout=timeout_s)
-            return
-        except subprocess.TimeoutExpired:
-            continue
+def stop(process, timeout_s=10.0):
+    """Ends a process the test started and its children (each runs in a session of its own)."""
+    if process is not None:
+        railvib_process.stop(process, grace_s=timeout_s, term_grace_s=5.0)
 
 
 def sine_m_s(t_s, component):
@@ -106,6 +99,7 @@ class Monitor(unittest.TestCase):
 
     processes = []
     published = {"velocity": {}, "metrics": {}}
+    foreign_published = {}
     counts = None
     layout = None
     grab = None
@@ -209,6 +203,7 @@ class Monitor(unittest.TestCase):
             cls.published["metrics"][name] = 0
         for pass_samples in (FIRST_PASS_SAMPLES, SECOND_PASS_SAMPLES):
             cls.publish_pass(publishers, pass_samples, rm)
+        cls.publish_foreign(publishers, rm)
         publish_done = time.monotonic()
 
         # A few redraws at 4 Hz after the last sample, then the real screen.
@@ -255,6 +250,28 @@ class Monitor(unittest.TestCase):
             if k % 10 == 9:
                 time.sleep(max(0.0, start + (k + 1) / SAMPLE_RATE_HZ - time.monotonic()))
 
+    @classmethod
+    def publish_foreign(cls, publishers, rm):
+        """What a foreign publisher might send on each sensor's topics, at the last time of the pass:
+        a metrics message with KB_F NaN, one naming another sensor, one with a verdict code 9, and a
+        velocity with x NaN. None may be shown or counted as received."""
+        import rospy
+        from geometry_msgs.msg import Vector3Stamped
+
+        t_s = (SECOND_PASS_SAMPLES - 1) / SAMPLE_RATE_HZ
+        for index, (name, (velocity_publisher, metrics_publisher)) in enumerate(publishers.items()):
+            bad = [cls.metrics_message(rm, name, index, t_s, SECOND_PASS_SAMPLES) for _ in range(3)]
+            bad[0].kb_f = math.nan
+            bad[1].sensor_name = "not_" + name
+            bad[2].verdict = 9
+            for m in bad:
+                metrics_publisher.publish(m)
+            v = Vector3Stamped()
+            v.header.stamp = rospy.Time.from_sec(t_s)
+            v.vector.x = math.nan
+            velocity_publisher.publish(v)
+            cls.foreign_published[name] = len(bad) + 1
+
     @staticmethod
     def metrics_message(rm, name, index, t_s, samples):
         import rospy
@@ -299,6 +316,11 @@ class Monitor(unittest.TestCase):
     def test_every_metrics_message_arrived(self):
         self.assertEqual(self.counts["metrics_messages"], self.published["metrics"])
 
+    def test_foreign_messages_are_refused_not_shown(self):
+        # Every one of them refused (and the valid streams above counted exactly, without them).
+        self.assertEqual(self.counts["refused_messages"], self.foreign_published)
+        self.assertIn("refused 1 message(s) so far", self.monitor_stdout + self.monitor_stderr)
+
     def test_a_jump_back_in_time_starts_a_new_pass(self):
         self.assertEqual(self.counts["passes"], {name: 2 for name in SENSORS})
         # Only the second pass is left (the first one's 500 samples were cleared).
@@ -340,32 +362,12 @@ class Monitor(unittest.TestCase):
                            "no DIN 4150-3 curve from railvib_tool din-guides: " + self.monitor_stderr[-1000:])
 
 
-def write_junit(result, path):
-    suite = ET.Element("testsuite", name="monitor_tests", tests=str(result.testsRun))
-    failed = {t.id(): m for t, m in result.failures + result.errors}
-    tests = list(unittest.defaultTestLoader.loadTestsFromTestCase(Monitor))
-    ids = {test.id() for test in tests}
-    # A failed setUpClass is reported under its own id: the checks it kept from running did not pass.
-    setup_errors = {test_id: message for test_id, message in failed.items() if test_id not in ids}
-    for test in tests:
-        case = ET.SubElement(suite, "testcase", classname="Monitor", name=test.id().split(".")[-1])
-        if test.id() in failed:
-            ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
-        elif setup_errors:
-            ET.SubElement(case, "error", message="not run: the monitor run (setUpClass) failed")
-    for test_id, message in setup_errors.items():
-        case = ET.SubElement(suite, "testcase", classname="Monitor", name=test_id)
-        ET.SubElement(case, "error", message="error").text = message
-    pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
 if __name__ == "__main__":
     started = time.monotonic()
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(Monitor)
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if len(sys.argv) > 1:
-        write_junit(result, sys.argv[1])
+        write_junit(result, "monitor_tests", Monitor, sys.argv[1])
     print(f"test_monitor: {time.monotonic() - started:.1f} s; files in {WORK}" if not result.wasSuccessful()
           else f"test_monitor: {time.monotonic() - started:.1f} s")
     if result.wasSuccessful():

@@ -8,6 +8,8 @@
   every stream named; a foreign bag, railvib names with other types, a bag with only /tf_static, a
   malformed block, a truncated or empty file are refused with exit 2 (report: non-zero, no traceback);
 - launch_scenario.py's verdict: only a run whose recorder ends first and cleanly passes;
+- the non-stream message contract (scripts/railvib_contracts.py) on every case of the table the core
+  is held to, and the bag check refusing a recorded metrics or transform message that breaks it;
 - compare.py: a house run whose soil, floors and section move at half the free run's shows
   -6.02 dB in every one-third-octave band and half the PPV (the metrics are linear in the record);
   a bag without the house is refused with its name, without a traceback;
@@ -44,7 +46,6 @@ from junit_xml import write_junit  # noqa: E402
 import launch_scenario  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
-import railvib_yaml  # noqa: E402
 import test_summary  # noqa: E402
 
 import rosbag  # noqa: E402
@@ -313,6 +314,21 @@ class Compare(unittest.TestCase):
         self.assertGreaterEqual(len(loud), 5)
         for b in loud:  # 20 log10(0.5) = -6.02 dB; levels are printed to 0.01 dB
             self.assertAlmostEqual(b["under_house_db"] - b["free_field_db"], -6.02, delta=0.011, msg=b)
+
+    def test_the_legends_name_what_differs_between_the_runs(self):
+        day, night = report_bag(WORK / "cmp_day.bag", "day"), report_bag(WORK / "cmp_night.bag", "night")
+        out = self.run_compare(day, night, WORK / "cmp_periods")
+        self.assertEqual(out.returncode, 0, out.stderr)
+        result = json.loads((WORK / "cmp_periods" / "compare.json").read_text())
+        self.assertEqual(result["differences"], [{"key": "virtual_sensors.din4150_2_period", "a": "day", "b": "night"}])
+        self.assertEqual(result["legend"], ["cmp_day.bag: virtual_sensors.din4150_2_period=day",
+                                            "cmp_night.bag: virtual_sensors.din4150_2_period=night"])
+        self.assertIn("| virtual_sensors.din4150_2_period | day | night |",
+                      (WORK / "cmp_periods" / "compare.md").read_text())
+        # The same scenario twice says so; a bag without its record says that it is not known.
+        out = self.run_compare(day, day, WORK / "cmp_same")
+        result = json.loads((WORK / "cmp_same" / "compare.json").read_text())
+        self.assertEqual((result["differences"], result["legend"][0]), ([], "cmp_day.bag (same scenario)"))
 
     def test_two_runs_without_the_house_are_compared_sensor_by_sensor(self):
         # Any two runs: the metrics are linear in the record, so half the motion halves PPV and KB_Fmax.
@@ -587,6 +603,89 @@ def report_bag(path, scenario="day", guides=(0.123, 0.456), spikes_s=None):
     return write_bag(path, msgs, status)
 
 
+class MessageContracts(unittest.TestCase):
+    """The non-stream message contract as the Python readers apply it (scripts/railvib_contracts.py):
+    every case of the table the core is held to (test/data/message_contract_cases.json), and the bag
+    check refusing a recorded message that breaks it."""
+
+    @staticmethod
+    def value(v):
+        if isinstance(v, str) and v in ("nan", "inf", "-inf"):
+            return float(v)
+        if isinstance(v, str) and v.endswith((" bands", " levels")):
+            n = int(v.split()[0])
+            return [10.0 ** (k / 10.0) for k in range(n)] if v.endswith("bands") else [60.0] * n
+        if isinstance(v, list):
+            return [MessageContracts.value(x) for x in v]
+        return v
+
+    def test_every_case_of_the_shared_table(self):
+        import types
+        import railvib_contracts as contracts
+        table = json.loads((ROOT / "test" / "data" / "message_contract_cases.json").read_text())
+        limit, sensors = table["velocity_limit_m_s"], table["sensors"]
+        refused = 0
+        for case in table["cases"]:
+            fields = {k: self.value(v) for k, v in dict(table["valid"][case["kind"]], **case["set"]).items()}
+            m = types.SimpleNamespace(**fields)
+            kind = case["kind"]
+            if kind == "metrics":
+                problem = contracts.metrics_problem("/sensor_metrics", m, limit, sensors)
+            elif kind == "surface":
+                problem = contracts.surface_snapshot_problem("/surface_snapshot", m, limit)
+            elif kind == "section":
+                problem = contracts.section_snapshot_problem("/section_snapshot", m, limit)
+            else:
+                problem = contracts.transform_problem("/tf", m.parent, m.child, m.translation_m, m.rotation_xyzw)
+            label = f"{kind}: {case['name']}"
+            if case["refused"] is None:
+                self.assertIsNone(problem, label)
+            else:
+                refused += 1
+                self.assertIsNotNone(problem, label)
+                self.assertIn(case["refused"], problem, label)
+                self.assertTrue(problem.startswith("topic /"), label)
+        self.assertGreaterEqual(refused, 40)
+
+    def metrics_bag(self, path, **changes):
+        msgs = [(names.CONTACT_FORCES, contact(0, 5, True)), (names.SOIL_LOADS, loads(0, 4, True))]
+        lay = rm.SleeperLayout()
+        lay.position_m = [0.0, 0.72, 1.44]
+        msgs.append((names.SLEEPER_LAYOUT, lay))
+        m = rm.VibrationMetrics(sensor_name="ground_2m", kind=0, kb_f=0.1, kb_f_max=0.2, ppv_m_s=1e-3,
+                                ppv_vertical_m_s=1e-3, governing_component=2, governing_ppv_m_s=1e-3,
+                                din4150_2_a_u=0.15, din4150_2_a_o=3.0, din4150_2_verdict=3, din4150_3_verdict=3,
+                                verdict=3)
+        for key, value in changes.items():
+            setattr(m, key, value)
+        msgs.append((names.SENSOR_METRICS, m))
+        from geometry_msgs.msg import TransformStamped
+        t = TransformStamped()
+        t.header.frame_id, t.child_frame_id = "track", "building"
+        t.transform.rotation.w = 1.0
+        msgs.append(("/tf_static", TFMessage(transforms=[t])))
+        status = {"status": "closed: all streams complete", "expected_streams": [names.CONTACT_FORCES,
+                                                                                   names.SOIL_LOADS]}
+        return write_bag(path, msgs, status)
+
+    def test_the_bag_check_refuses_a_recorded_message_that_breaks_it(self):
+        self.assertEqual(bag_check.check_bag(self.metrics_bag(WORK / "metrics_ok.bag")).code, 0)
+        r = bag_check.check_bag(self.metrics_bag(WORK / "metrics_nan.bag", kb_f=float("nan")))
+        self.assertEqual(r.code, 2)
+        self.assertIn("/sensor_metrics: kb_f = nan", r.refused)
+        r = bag_check.check_bag(self.metrics_bag(WORK / "metrics_verdict.bag", verdict=12))
+        self.assertIn("verdict = 12", r.refused)
+        bag = self.metrics_bag(WORK / "tf_bad.bag")
+        from geometry_msgs.msg import TransformStamped
+        t = TransformStamped()
+        t.header.frame_id, t.child_frame_id = "track", "sensor_x"
+        t.transform.rotation.w = 3.0
+        with rosbag.Bag(str(bag), "a") as b:
+            b.write("/tf", TFMessage(transforms=[t]), rospy.Time(1))
+        r = bag_check.check_bag(bag)
+        self.assertIn("transform 'track' -> 'sensor_x': rotation quaternion has norm 3", r.refused)
+
+
 class ReportFigures(unittest.TestCase):
     """report.py's figures (issue #13): spectra, guide lines, impact times, zooms, scenario record, exposure."""
 
@@ -674,6 +773,27 @@ class ReportFigures(unittest.TestCase):
         self.assertEqual(shown["sensors"]["house_first_floor"]["plotted_components"], ["vz", "vy"])
         self.assertIn("house_first_floor: vy", md)
 
+    def test_the_standards_figure_draws_each_component_against_the_guideline_where_it_applies(self):
+        out, shown, md = self.report(report_bag(WORK / "rf_standards.bag"))
+        self.assertTrue((out / "standards.png").exists())
+        self.assertIn("![standards.png](standards.png)", md)
+        ground, floor = shown["standards"]["ground_2m"], shown["standards"]["house_first_floor"]
+        self.assertEqual((ground["kind"], ground["guideline"]), ("free_field", "free field: not applicable"))
+        self.assertEqual((floor["kind"], floor["guideline"]), ("floor", "floor values"))
+        self.assertIsNone(ground["guideline_error"])
+        self.assertGreaterEqual(ground["bands"], 10)
+        # The synthetic sines: ground_2m v_z 1 mm/s at 20 Hz; the floor v_y 2 mm/s at 15 Hz, v_z 0.5 mm/s at 30 Hz
+        # (a peak within 1 % of the amplitude at 1 kHz sampling; the frequency from the zero crossings).
+        points = {(p["component"]): p for p in ground["ppv_points"]}
+        self.assertEqual(set(points), {"z"})
+        self.assertAlmostEqual(points["z"]["ppv_mm_s"], 1.0, delta=0.01)
+        self.assertAlmostEqual(points["z"]["frequency_hz"], 20.0, delta=0.5)
+        points = {(p["component"]): p for p in floor["ppv_points"]}
+        self.assertEqual(set(points), {"y", "z"})
+        self.assertAlmostEqual(points["y"]["ppv_mm_s"], 2.0, delta=0.02)
+        self.assertAlmostEqual(points["y"]["frequency_hz"], 15.0, delta=0.5)
+        self.assertAlmostEqual(points["z"]["frequency_hz"], 30.0, delta=0.8)
+
     def test_the_exposure_rating_is_the_tools_on_the_recorded_samples(self):
         for extra, exposure_s in (((), 1.0), (("--exposure-s", "3600"), 3600.0)):
             out, shown, md = self.report(report_bag(WORK / "rf_exposure.bag"), *extra)
@@ -705,7 +825,9 @@ class ReportFigures(unittest.TestCase):
         self.assertFalse((out / "scenario.yaml").exists())
         self.assertIsNone(shown["spectrum"]["mesh_f_max_hz"])
         self.assertIsNone(shown["contact_forces"]["defect_position_m"])
-        self.assertEqual(len(shown["figures"]), 4)
+        self.assertEqual(shown["figures"], ["contact_forces.png", "sensors.png", "standards.png", "wave_field.png",
+                                            "building_vs_free_field.png"][:len(shown["figures"])])
+        self.assertEqual(len(shown["figures"]), 5)
 
 
 FAKE_CATKIN_MAKE = r'''#!/bin/sh
@@ -934,8 +1056,8 @@ class LauncherTeardown(unittest.TestCase):
         self.assertLess(time.time() - t0, 10.0)
 
 
-CLASSES = (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, ReportFigures, Workspace,
-           LauncherTeardown)
+CLASSES = (TestSummary, BagCheck, Compare, LaunchArguments, LaunchVerdict, MessageContracts, ReportFigures,
+           Workspace, LauncherTeardown)
 
 
 if __name__ == "__main__":
