@@ -836,6 +836,9 @@ ws="$(pwd)"
 if [ -e "$ws/building" ]; then echo "two builds in $ws at once" >> "$ws/overlap"; fi
 touch "$ws/building"
 echo "start $(date +%s.%N)" >> "$ws/builds"
+# What the compiler launcher would see: the arguments and the ccache settings in the environment.
+echo "args $*" >> "$ws/launcher"
+echo "CCACHE_BASEDIR=${CCACHE_BASEDIR:-unset} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-unset}" >> "$ws/launcher"
 if [ -n "$FAKE_FAIL" ]; then
   for i in $(seq 1 80); do echo "[ $i%] Building CXX object src/common/error_code.cpp.o -Werror=return-type"; done
   echo "/src/soil/kernel.cpp:42:7: error: 'stiffnes' was not declared in this scope"
@@ -881,6 +884,23 @@ class Workspace(unittest.TestCase):
         self.assertEqual(kinds, ["start", "end", "start", "end"])
         self.assertGreaterEqual(times[2], times[1])  # the second build began after the first had ended
         self.assertEqual(sum("waiting for it" in err for _, err in outputs), 1, outputs)
+
+    def test_the_build_sees_the_ccache_settings_that_let_clones_share_the_cache(self):
+        # The build runs under ccache with the clone as its base directory (paths hashed relative to it,
+        # so a second clone hits the first one's cache), and without ccache when RAILVIB_CCACHE=0.
+        if not shutil.which("ccache"):
+            self.skipTest("ccache is not installed")
+        p = self.setup_command(RAILVIB_CCACHE="1")
+        _, err = p.communicate(timeout=120)
+        self.assertEqual(p.returncode, 0, err)
+        seen = (self.root / ".ws" / "launcher").read_text()
+        self.assertIn("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache", seen)
+        self.assertIn(f"CCACHE_BASEDIR={self.root} CCACHE_NOHASHDIR=1", seen)
+        (self.root / ".ws" / "launcher").unlink()
+        p = self.setup_command(RAILVIB_CCACHE="0")
+        p.communicate(timeout=120)
+        seen = (self.root / ".ws" / "launcher").read_text()
+        self.assertIn("-UCMAKE_CXX_COMPILER_LAUNCHER", seen)
 
     def test_a_bad_master_port_is_refused_before_anything_is_built(self):
         for args in (["--port", "abc"], ["--port", "80"], ["--port=70000"], ["--port"]):
