@@ -11,10 +11,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "railvib/common/constants.hpp"
+
 namespace railvib::building {
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586;
 
 /// y = M^1/2 (K - sigma M)^-1 M^1/2 x on the free DOFs.
 class ShiftInvertOp {

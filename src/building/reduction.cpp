@@ -4,12 +4,11 @@
 #include <stdexcept>
 
 #include "railvib/building/modal.hpp"
+#include "railvib/common/constants.hpp"
 
 namespace railvib::building {
 
-namespace {
-constexpr double kTwoPi = 6.283185307179586;
-}
+namespace {}
 
 Eigen::MatrixXd rigidMotionMap(const BuildingModel& model, const Eigen::Vector3d& reference_m) {
   const auto& nodes = model.mesh().nodes;

@@ -6,10 +6,10 @@
 #include <stdexcept>
 
 #include "railvib/building/reduction.hpp"
+#include "railvib/common/constants.hpp"
 
 namespace railvib::building {
 namespace {
-constexpr double kTwoPi = 6.283185307179586;
 
 // One-way: the foundation DOFs follow the bilinear interpolation in plan of the footprint
 // receivers' motion, with the rotations of that interpolated field.

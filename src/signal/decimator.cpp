@@ -7,12 +7,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "railvib/common/constants.hpp"
 #include "railvib/signal/filter_design.hpp"
 
 namespace railvib::signal {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 double sinc(double x) {
   if (std::abs(x) < 1e-12) return 1.0;

@@ -4,13 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "railvib/common/constants.hpp"
 #include "railvib/signal/filter_design.hpp"
 
 namespace railvib::signal {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
 
 Differentiator::Differentiator(double rate_hz, size_t channels, double t0_s, int half_width)
     : rate_(rate_hz), channels_(channels), t0_(t0_s), m_(half_width) {

@@ -4,10 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "railvib/common/constants.hpp"
+
 namespace railvib::signal {
 
 std::vector<DinCheckRow> din45669TestTable(double fs_hz, const KbSpec& spec) {
-  constexpr double kPi = 3.14159265358979323846;
   const double f[] = {5.6, 16.0, 31.5, 80.0};
   const double kbf[] = {0.500, 0.667, 0.693, 0.594};
   const double kbfmax[] = {0.528, 0.680, 0.700, 0.597};

@@ -5,10 +5,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "railvib/common/constants.hpp"
+
 namespace railvib::signal {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 using cd = std::complex<double>;
 
 void checkRate(double f_hz, double fs_hz, const char* what) {

@@ -9,10 +9,11 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "railvib/common/constants.hpp"
+
 namespace railvib::signal {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 std::mutex& plannerMutex() {
   static std::mutex m;

@@ -5,13 +5,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "railvib/common/constants.hpp"
 #include "railvib/signal/spectrum.hpp"
 
 namespace railvib::signal {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
 
 // ------------------------------------------------------------------ KB weighting
 

@@ -43,14 +43,13 @@
 
 #include "railvib/common/force_inline.hpp"
 #include "railvib/soil/boundary.hpp"
+#include "railvib/soil/kernel.hpp"
 
 namespace railvib::soil {
 
 namespace {
 
-constexpr size_t kChunk = 32;
-// Below this many layer elements the layer's work does not pay for OpenMP (as in the kernel).
-constexpr size_t kMinParallelElements = 20000;
+constexpr size_t kPmlChunk = 32;
 
 // Where the layer is on a mesh: element counts per face, the interior the kernel keeps, and the
 // layer as disjoint element boxes (bottom slab, then the x strips, then the y strips between them).
@@ -209,9 +208,9 @@ RAILVIB_FORCE_INLINE void rowForcesBody(const Real* const* src, Real* const* nea
   const Real gp = Real(0.5 + 0.5 / std::sqrt(3.0)), gm = Real(0.5 - 0.5 / std::sqrt(3.0));
   const Real wgt[2][2] = {{gp, gm}, {gm, gp}};  // wgt[node][gauss point]
   const Real wj[3] = {wx, wy, wz};
-  alignas(64) Real out[36][kChunk];
-  for (size_t i0 = 0; i0 < ni; i0 += kChunk) {
-    const size_t len = std::min(kChunk, ni - i0);
+  alignas(64) Real out[36][kPmlChunk];
+  for (size_t i0 = 0; i0 < ni; i0 += kPmlChunk) {
+    const size_t len = std::min(kPmlChunk, ni - i0);
 #pragma omp simd
     for (size_t ii = 0; ii < len; ++ii) {
       // G[l][c][q1][q2]: d w_c / dx_l stretched, at the Gauss points of the two other directions (in order).

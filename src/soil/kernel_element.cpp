@@ -18,10 +18,7 @@ namespace railvib::soil {
 
 namespace {
 
-constexpr size_t kChunk = 64;
-// Below this many elements per step the work (< ~0.5 ms) does not pay for the
-// OpenMP fork/join and barriers: run serially.
-constexpr size_t kMinParallelElements = 20000;
+constexpr size_t kElementChunk = 64;
 
 // One element level k, element rows j in [j_begin, j_end), elements i in [i_begin, i_end):
 // f -= K_e w, vectorised over the elements of a row. The element outputs go to a small
@@ -30,13 +27,13 @@ template <class Real>
 RAILVIB_FORCE_INLINE void levelKernelBody(const Real* __restrict ke, const Real* const* w, Real* const* f,
                                           size_t i_begin, size_t i_end, size_t sx, size_t sxy, size_t k, size_t j_begin,
                                           size_t j_end) {
-  alignas(64) Real out[24][kChunk];
+  alignas(64) Real out[24][kElementChunk];
   size_t off[8];
   for (size_t c = 0; c < 8; ++c) off[c] = (c & 1) + ((c >> 1) & 1) * sx + ((c >> 2) & 1) * sxy;
   for (size_t j = j_begin; j < j_end; ++j) {
     const size_t base = j * sx + k * sxy;
-    for (size_t i0 = i_begin; i0 < i_end; i0 += kChunk) {
-      const size_t len = std::min(kChunk, i_end - i0);
+    for (size_t i0 = i_begin; i0 < i_end; i0 += kElementChunk) {
+      const size_t len = std::min(kElementChunk, i_end - i0);
       const Real* src[24];
       for (size_t q = 0; q < 24; ++q) src[q] = w[q % 3] + base + off[q / 3] + i0;
 #pragma omp simd

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "railvib/common/constants.hpp"
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/io/csv.hpp"
 #include "railvib/signal/decimator.hpp"
@@ -271,7 +272,6 @@ int decimatorCheck(const std::vector<std::string>& args) {
   }
   for (double f = 0.5 * fo; f <= 0.5 * fi; f += fo / 997.0) stop = std::max(stop, d.responseMagnitude(f));
   // Alignment: a sine at 0.37 f_out against its exact values at t_k = t0 + k / f_out.
-  constexpr double kPi = 3.14159265358979323846;
   const double fsine = 0.37 * fo, t0 = 0.0123;
   Decimator a(spec, 1, t0);
   std::vector<double> x(static_cast<size_t>(std::max(2.0, 0.5 * fi))), y;

@@ -47,8 +47,6 @@ SensorRecords readSensorRecords(const std::string& path) {
 
 namespace {
 
-Verdict verdictOf(bool agrees) { return agrees ? Verdict::Agrees : Verdict::Differs; }
-
 struct Peak {
   double frequency_hz = 0.0;
   double amplitude = 0.0;

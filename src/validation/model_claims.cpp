@@ -69,8 +69,6 @@ std::string fixed(double v, int digits) {
 
 namespace {
 
-Verdict verdictOf(bool agrees) { return agrees ? Verdict::Agrees : Verdict::Differs; }
-
 const char* kConfig = "--config config/haren.yaml";
 
 // ------------------------------------------------------------------ track

@@ -11,6 +11,7 @@
 // (solver_unit.hpp).
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@
 #include "railvib/soil/mesh.hpp"
 
 namespace railvib::soil {
+
+/// Below this many elements per step the work (< ~0.5 ms) does not pay for the OpenMP fork/join and
+/// barriers: kernels and boundary units run such a box serially.
+inline constexpr size_t kMinParallelElements = 20000;
 
 enum class KernelKind {
   /// Element by element: per element a 24 x 24 product, then a scatter to its 8 nodes.

@@ -30,6 +30,8 @@ namespace railvib::validation {
 
 enum class Verdict { Agrees, Differs, Pending };
 std::string verdictName(Verdict v);
+/// A judged claim's verdict: Agrees when its criterion holds, else Differs.
+inline Verdict verdictOf(bool agrees) { return agrees ? Verdict::Agrees : Verdict::Differs; }
 
 struct Claim {
   std::string id;         ///< e.g. "track.first_resonance.winkler"
