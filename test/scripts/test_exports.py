@@ -49,6 +49,8 @@ import railvib.msg as rm  # noqa: E402
 
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_export_tests_"))
 FS_HZ, SAMPLES = 1000.0, 600
+# Snapshot values are velocities within limits.velocity_m_s (the message contract): 2^-10 m/s steps.
+SNAP_SCALE = 2.0 ** -10
 SENSORS = ["ground_2m", "house_first_floor"]
 RECEIVERS = ["line_y1", "line_y8"]
 
@@ -99,13 +101,14 @@ def export_bag(path, per_sensor_messages=True, drop_one=False):
             snap.sample_index = s
             snap.origin_x_m, snap.origin_y_m, snap.spacing_x_m, snap.spacing_y_m = -2.0, 1.0, 0.5, 0.25
             snap.nx, snap.ny = 5, 4
-            snap.vertical_velocity_m_s = [s + i + 10 * j for j in range(4) for i in range(5)]  # x fastest
+            # Values of a ground's size (mm/s), exact in float32: SNAP_SCALE x (s + i + 10 j).
+            snap.vertical_velocity_m_s = [SNAP_SCALE * (s + i + 10 * j) for j in range(4) for i in range(5)]  # x fastest
             bag.write(names.SURFACE_SNAPSHOT, snap, stamp)
             sec = rm.SectionSnapshot()
             sec.header.stamp = stamp
             sec.sample_index, sec.x_m, sec.origin_y_m, sec.spacing_y_m, sec.ny = s, 0.0, -3.0, 1.5, 3
             sec.depth_m = [0.0, 0.5, 1.5]
-            sec.vertical_velocity_m_s = [s + j + 100 * r for r in range(3) for j in range(3)]  # y fastest
+            sec.vertical_velocity_m_s = [SNAP_SCALE * (s + j + 100 * r) for r in range(3) for j in range(3)]  # y fastest
             bag.write(names.SECTION_SNAPSHOT, sec, stamp)
         for sensor in SENSORS:
             m = rm.VibrationMetrics()
@@ -178,7 +181,7 @@ class Export(unittest.TestCase):
             self.assertEqual([float(x) for x in grid.get("Spacing").split()][:2], [0.5, 0.25])
             values = [float(x) for x in grid.find("Piece/PointData/DataArray").text.split()]
             # VTK's point order is x fastest: point (i, j) is values[i + 5 j].
-            self.assertEqual(values[3 + 5 * 2], s + 3 + 10 * 2)
+            self.assertAlmostEqual(values[3 + 5 * 2], SNAP_SCALE * (s + 3 + 10 * 2), delta=1e-6 * SNAP_SCALE * 23)
 
     def test_the_section_series_is_a_structured_grid_with_z_up(self):
         sets = ET.parse(self.out / "vtk" / "section.pvd").getroot().find("Collection").findall("DataSet")
@@ -187,10 +190,10 @@ class Export(unittest.TestCase):
         self.assertEqual(grid.get("WholeExtent"), "0 0 0 2 0 2")
         points = np.array([float(x) for x in grid.find("Piece/Points/DataArray").text.split()]).reshape(-1, 3)
         values = [float(x) for x in grid.find("Piece/PointData/DataArray").text.split()]
-        # Point (j = 1, row r = 2): y = -3 + 1.5, z = -1.5 (depth 1.5 m), value 2 + 1 + 200.
+        # Point (j = 1, row r = 2): y = -3 + 1.5, z = -1.5 (depth 1.5 m), value SNAP_SCALE x (2 + 1 + 200).
         p = 1 + 3 * 2
         self.assertEqual(list(points[p]), [0.0, -1.5, -1.5])
-        self.assertEqual(values[p], 2 + 1 + 200)
+        self.assertAlmostEqual(values[p], SNAP_SCALE * (2 + 1 + 200), delta=1e-6 * SNAP_SCALE * 203)
 
     def test_a_foreign_bag_is_refused(self):
         foreign = WORK / "foreign.bag"
