@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -10,6 +11,7 @@
 
 #include "railvib/common/config.hpp"
 #include "railvib/validation/validation.hpp"
+#include "railvib/vehicle/vehicle_params.hpp"
 
 using namespace railvib;
 using namespace railvib::validation;
@@ -148,8 +150,16 @@ TEST(Validation, ReadingsAreConfigOverridesThatLoad) {
   EXPECT_EQ(readings.front().name, "default");
   for (const auto& r : readings) {
     std::vector<std::string> o = r.overrides;
-    EXPECT_NO_THROW(Config::load(cfg.file(), o).root()) << r.name;
+    // The vehicle of each reading is valid as a whole (e.g. the resilient-wheels measure's tread stays
+    // lighter than the wheels a reading halves), not just its config.
+    EXPECT_NO_THROW(railvib::vehicle::loadVehicleParams(Config::load(cfg.file(), o).root())) << r.name;
   }
+  // The readings of issue 35 double the unsprung mass per unit of track stiffness.
+  const auto has = [&](const std::string& name) {
+    return std::any_of(readings.begin(), readings.end(), [&](const Reading& r) { return r.name == name; });
+  };
+  EXPECT_TRUE(has("whole_vehicle_per_rail"));
+  EXPECT_TRUE(has("motor_wheels_double"));
 }
 
 namespace {
