@@ -10,6 +10,7 @@
 #include "railvib/common/names.hpp"
 #include "railvib/common/version.hpp"
 #include "railvib/io/scenario_record.hpp"
+#include "railvib/ros/node_status.hpp"
 #include "railvib/scenario/scenario.hpp"
 
 namespace railvib::ros_io {
@@ -137,8 +138,8 @@ void reportStartFailure(const std::string& node, const std::string& message) {
   status.message = message;
   array.status.push_back(status);
   publisher.publish(array);
-  // A subscriber still connecting gets the latched ERROR once connected (up to 2 s).
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
+  // A subscriber still connecting gets the latched ERROR once connected (up to kDiagnosticsConnectWaitS).
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kDiagnosticsConnectWaitS);
   while (publisher.getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.05).sleep();
   ros::WallDuration(0.5).sleep();
 }

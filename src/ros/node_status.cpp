@@ -32,7 +32,7 @@ void NodeStatus::fail(const std::string& message) {
   error(message);
   // Let the ERROR leave before the connections close: a subscriber to /diagnostics that is still
   // connecting to this node (a refusal at start-up) gets the latched ERROR once it is connected.
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kDiagnosticsConnectWaitS);
   while (publisher_.getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.05).sleep();
   ros::WallDuration(0.5).sleep();
   ros::shutdown();

@@ -65,6 +65,8 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
   private_nh.param("publish_clock", publish_clock, publish_clock);
   private_nh.param("use_building", use_building, use_building);
   private_nh.param("required_subscribers", required_subscribers, required_subscribers);
+  int sensor_topic_subscribers = 0;
+  private_nh.param("sensor_topic_subscribers", sensor_topic_subscribers, sensor_topic_subscribers);
   private_nh.param("block_samples", block_samples, block_samples);
   block_samples_ = static_cast<size_t>(std::max(1, block_samples));
   metrics_every_ =
@@ -74,9 +76,11 @@ VirtualSensorNode::VirtualSensorNode(ros::NodeHandle& nh, ros::NodeHandle& priva
     if (setup.source == "building" && !use_building) continue;
     Sensor s;
     s.setup = setup;
-    s.imu = nh.advertise<sensor_msgs::Imu>(names::sensorTopic(setup.spec.name, "imu"), 0);
-    s.velocity = nh.advertise<geometry_msgs::Vector3Stamped>(names::sensorTopic(setup.spec.name, "velocity"), 0);
-    s.metrics = nh.advertise<railvib::VibrationMetrics>(names::sensorTopic(setup.spec.name, "metrics"), 0);
+    s.imu = BlockPublisher<sensor_msgs::Imu>(nh, names::sensorTopic(setup.spec.name, "imu"), sensor_topic_subscribers);
+    s.velocity = BlockPublisher<geometry_msgs::Vector3Stamped>(nh, names::sensorTopic(setup.spec.name, "velocity"),
+                                                               sensor_topic_subscribers);
+    s.metrics = BlockPublisher<railvib::VibrationMetrics>(nh, names::sensorTopic(setup.spec.name, "metrics"),
+                                                          sensor_topic_subscribers);
     sensors_.push_back(std::move(s));
   }
   if (sensors_.empty()) throw std::runtime_error("no virtual sensor configured (virtual_sensors.sensors)");

@@ -13,6 +13,11 @@
 
 namespace railvib::ros_io {
 
+/// How long a node that fails waits for a subscriber of /diagnostics to connect before it exits, so
+/// the latched ERROR reaches it: a monitor or test that is still connecting on a loaded machine
+/// (2 s was short when two test suites ran at once).
+inline constexpr double kDiagnosticsConnectWaitS = 5.0;
+
 class NodeStatus {
  public:
   NodeStatus(ros::NodeHandle& nh, std::string node_name, double total_sim_s);

@@ -6,10 +6,14 @@
 //   sensors/<name>/velocity  geometry_msgs/Vector3Stamped (m/s)
 //   sensors/<name>/metrics   railvib/VibrationMetrics (metrics_rate_hz of simulated time; also on
 //                            `sensor_metrics` for all sensors, and once more at the end of the record)
-// plus /diagnostics, and the lossless block stream `sensor_samples`.
+// plus /diagnostics, and the lossless block stream `sensor_samples`. Private parameters:
+// ~required_subscribers (sensor_samples, default 1), ~sensor_topic_subscribers (each sensor's own
+// topics, default 0; 1 when a recorder records them), ~use_building, ~publish_clock, ~block_samples.
 #pragma once
 
+#include <geometry_msgs/Vector3Stamped.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 
 #include <functional>
 #include <memory>
@@ -18,6 +22,7 @@
 
 #include "railvib/PointLayout.h"
 #include "railvib/SensorSamples.h"
+#include "railvib/VibrationMetrics.h"
 #include "railvib/common/sample_stream.hpp"
 #include "railvib/common/stream_contract.hpp"
 #include "railvib/ros/block_publisher.hpp"
@@ -51,7 +56,11 @@ class VirtualSensorNode {
     signal::VirtualSensorSetup setup;
     std::unique_ptr<signal::VirtualSensor> sensor;
     int point_index = -1;
-    ros::Publisher imu, velocity, metrics;
+    // Each sensor's own topics wait, like the streams, for ~sensor_topic_subscribers before their first
+    // message: a recorder of these topics connects to each one apart, and would miss the first samples.
+    BlockPublisher<sensor_msgs::Imu> imu;
+    BlockPublisher<geometry_msgs::Vector3Stamped> velocity;
+    BlockPublisher<railvib::VibrationMetrics> metrics;
     std::vector<signal::SensorSample> pending;  // emitted, not yet in a sensor_samples block
     std::vector<signal::SensorSample> fresh;    // emitted by the block being handled
     uint64_t published = 0;
