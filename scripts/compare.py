@@ -57,6 +57,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_plots  # noqa: E402
 import railvib_yaml  # noqa: E402
 from railvib_paths import OutputDirError, output_dir  # noqa: E402
 import report  # noqa: E402  (stream reading, spectra and metrics: one place)
@@ -268,7 +269,7 @@ def compare_sensors(a, b, name_a, name_b, outdir, measured=None):
             return {"ppv_z_mm_s": vz["ppv_mm_s"], "vector_ppv_mm_s": summary["din4150_3"]["vector_peak_mm_s"],
                     "kb_fmax": summary["din4150_2"]["kb_fmax"], "dominant_frequency_z_hz": vz["dominant_frequency_hz"]}
         rows[sensor] = {"a": figures_of(results["a"]), "b": figures_of(results["b"])}
-    fig.suptitle(f"B: {name_b} (red) against A: {name_a} (blue)", fontsize=10)
+    railvib_plots.fit_title(fig, f"B: {name_b} (red) against A: {name_a} (blue)", fontsize=10)
     fig.savefig(outdir / "sensors.png", dpi=110)
     plt.close(fig)
     lines = [f"# railvib: `{name_b}` (B) against `{name_a}` (A)", "",
@@ -418,7 +419,7 @@ def floors_figure(free, house, outdir):
             a.set_xlabel(xl)
             a.grid(alpha=0.3)
         axes[row][0].legend(fontsize=7, loc="upper right")
-    fig.suptitle("House response points vs the free field at the same place (paper Fig. 15)")
+    railvib_plots.fit_title(fig, "House response points vs the free field at the same place (paper Fig. 15)")
     fig.tight_layout()
     fig.savefig(outdir / "floors_vs_free_field.png", dpi=110)
     plt.close(fig)
@@ -472,8 +473,8 @@ def section_figures(free, house, outdir, times, window_s, depth_m):
     for r in (0, 1):
         axes[r][0].set_ylabel("depth [m]")
     fig.colorbar(im, ax=axes, label="vertical velocity [mm/s]", shrink=0.8)
-    fig.suptitle(f"Vertical velocity on the plane x = {free.section_x:.2f} m (through the defect and the house; "
-                 "paper Fig. 16); box: the house and its foundation; dashed: track axis", fontsize=9)
+    railvib_plots.fit_title(fig, f"Vertical velocity on the plane x = {free.section_x:.2f} m (through the defect and "
+                            "the house; paper Fig. 16); box: the house and its foundation; dashed: track axis", fontsize=9)
     fig.savefig(outdir / "section_snapshots.png", dpi=110)
     plt.close(fig)
 

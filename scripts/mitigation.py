@@ -30,6 +30,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 
+import railvib_plots  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 import railvib_yaml  # noqa: E402
 
@@ -225,7 +226,7 @@ def write_outputs(outdir, bands, summary, wall_s):
         ax.grid(alpha=0.3, which="both")
     axes[0][0].set_ylabel("insertion loss [dB]")
     axes[0][0].legend(fontsize=7)
-    fig.suptitle("railvib mitigation: insertion loss (ISO 14837-1), positive = lower vibration")
+    railvib_plots.fit_title(fig, "railvib mitigation: insertion loss (ISO 14837-1), positive = lower vibration")
     fig.tight_layout()
     fig.savefig(outdir / "mitigation.png", dpi=110)
     plt.close(fig)

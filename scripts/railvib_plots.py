@@ -148,3 +148,19 @@ def third_octave_bars(ax, centres_hz, levels_by_component, resolved_hz=None, fon
     ax.set_ylim(bottom, top)
     third_octave_ticks(ax, centres_hz, positions, fontsize - 1)
     ax.set_ylabel("L_v (dB)", fontsize=fontsize)
+
+
+def fit_title(fig, text, fontsize=10, y=None):
+    """A figure title that fits the figure: wrapped at word boundaries until its rendered width is within
+    the figure's (a long title was cut at both edges). Returns the number of lines."""
+    import textwrap
+
+    renderer = fig.canvas.get_renderer()
+    width_px = fig.get_figwidth() * fig.dpi
+    chars = max(20, len(text))
+    while True:
+        wrapped = "\n".join(textwrap.wrap(text, chars)) if chars < len(text) else text
+        title = fig.suptitle(wrapped, fontsize=fontsize, **({"y": y} if y is not None else {}))
+        if title.get_window_extent(renderer).width <= 0.98 * width_px or chars <= 20:
+            return wrapped.count("\n") + 1
+        chars = int(chars * 0.85)

@@ -844,9 +844,10 @@ def main(argv):
                     ax.legend(fontsize=8)
                     for a in axes[row]:
                         a.grid(alpha=0.3)
-                fig.suptitle("House response points (mid-width, 3/4 length) vs the soil under them (two-way; the "
-                             "free field is the one_way run: ./railvib compare FREE.bag THIS.bag)" if two_way else
-                             "House response points (mid-width, 3/4 length) vs the free field there")
+                railvib_plots.fit_title(fig, "House response points (mid-width, 3/4 length) vs the soil under them "
+                                        "(two-way; the free field is the one_way run: ./railvib compare FREE.bag "
+                                        "THIS.bag)" if two_way else
+                                        "House response points (mid-width, 3/4 length) vs the free field there")
                 fig.tight_layout()
                 fig.savefig(outdir / "building_vs_free_field.png", dpi=110)
                 plt.close(fig)

@@ -54,6 +54,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import mitigation  # noqa: E402
 import railvib_names as names  # noqa: E402
+import railvib_plots  # noqa: E402
 import railvib_process  # noqa: E402
 import railvib_yaml  # noqa: E402
 from railvib_paths import OutputDirError, output_dir  # noqa: E402
@@ -359,7 +360,7 @@ def plot_against(outdir, rows, keys):
                 ax.set_xticks(range(len(values)))
                 ax.set_xticklabels([str(v) for v in values])
         axes[0].legend(fontsize=7)
-        fig.suptitle(f"railvib study: sensors against {key}")
+        railvib_plots.fit_title(fig, f"railvib study: sensors against {key}")
         fig.tight_layout()
         name = "study_" + "".join(c if c.isalnum() else "_" for c in key) + ".png"
         fig.savefig(outdir / name, dpi=110)

@@ -794,6 +794,22 @@ class ReportFigures(unittest.TestCase):
         self.assertAlmostEqual(points["y"]["frequency_hz"], 15.0, delta=0.5)
         self.assertAlmostEqual(points["z"]["frequency_hz"], 30.0, delta=0.8)
 
+    def test_a_long_figure_title_is_wrapped_to_fit_the_figure(self):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import railvib_plots
+        title = ("House response points (mid-width, 3/4 length) vs the soil under them (two-way; the free field "
+                 "is the one_way run: ./railvib compare FREE.bag THIS.bag)")
+        for width_in in (4.0, 8.0, 13.0):
+            fig = plt.figure(figsize=(width_in, 3.0))
+            lines = railvib_plots.fit_title(fig, title)
+            extent = fig._suptitle.get_window_extent(fig.canvas.get_renderer())
+            self.assertLessEqual(extent.width, 0.98 * width_in * fig.dpi, width_in)
+            self.assertGreaterEqual(extent.x0, 0.0, width_in)
+            self.assertEqual(lines > 1, width_in < 13.0, width_in)
+            plt.close(fig)
+
     def test_the_exposure_rating_is_the_tools_on_the_recorded_samples(self):
         for extra, exposure_s in (((), 1.0), (("--exposure-s", "3600"), 3600.0)):
             out, shown, md = self.report(report_bag(WORK / "rf_exposure.bag"), *extra)
