@@ -36,8 +36,9 @@ import railvib_yaml
 
 try:
     import rosbag
+    import yaml
 except ImportError:  # pragma: no cover
-    sys.exit("railvib bag check: python3-rosbag is required (./railvib setup installs it)")
+    sys.exit("railvib bag check: python3-rosbag and python3-yaml are required (./railvib setup installs them)")
 
 TYPES = {
     names.CONTACT_FORCES: "railvib/ContactForces",
@@ -216,17 +217,30 @@ def check_bag(path):
     return result
 
 
+def scenario_record(bag):
+    """The scenario record (/railvib/scenario) as a dict, and why it is not there or not readable."""
+    for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
+        text = getattr(m, "data", None)
+        if not isinstance(text, str):
+            return None, f"{names.SCENARIO} is not a std_msgs/String"
+        try:
+            record = railvib_yaml.load(text)
+        except yaml.YAMLError as e:
+            return None, f"{names.SCENARIO} is not readable YAML ({str(e).splitlines()[0]})"
+        if not isinstance(record, dict):
+            return None, f"{names.SCENARIO} is not a YAML mapping"
+        return record, None
+    return None, "not recorded (bag from an older railvib)"
+
+
 def _recorded_velocity_limit(bag):
     """limits.velocity_m_s of the recorded scenario (/railvib/scenario), else the default."""
-    for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
-        try:
-            record = railvib_yaml.load(m.data)
-            value = float(record["config"]["limits"]["velocity_m_s"])
-            if math.isfinite(value) and value > 0:
-                return value
-        except Exception:  # no record, no limits section, not YAML: the default bound
-            pass
-    return railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S
+    record, _ = scenario_record(bag)
+    try:
+        value = float(record["config"]["limits"]["velocity_m_s"])
+    except (TypeError, KeyError, ValueError):  # no record, no limits section: the default bound
+        return railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S
+    return value if math.isfinite(value) and value > 0 else railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S
 
 
 def _check_messages(bag, info, result):

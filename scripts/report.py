@@ -45,7 +45,6 @@ from matplotlib.transforms import blended_transform_factory  # noqa: E402
 import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_plots  # noqa: E402
-import railvib_yaml  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 from railvib_paths import find_railvib_tool, OutputDirError, output_dir  # noqa: E402
 
@@ -240,20 +239,8 @@ def spectrum_axes(ax, f_max_hz, mesh_f_max_hz, component="z"):
 
 
 # ------------------------------------------------------------------ scenario record
-def scenario_record(bag):
-    """The scenario record (/railvib/scenario) as a dict, and why it is not there or not readable."""
-    for _, m, _ in bag.read_messages(topics=[names.SCENARIO]):
-        text = getattr(m, "data", None)
-        if not isinstance(text, str):
-            return None, f"{names.SCENARIO} is not a std_msgs/String"
-        try:
-            record = railvib_yaml.load(text)
-        except yaml.YAMLError as e:
-            return None, f"{names.SCENARIO} is not readable YAML ({str(e).splitlines()[0]})"
-        if not isinstance(record, dict):
-            return None, f"{names.SCENARIO} is not a YAML mapping"
-        return record, None
-    return None, "not recorded (bag from an older railvib)"
+# The scenario record (/railvib/scenario) as a dict, and why it is not there: read by the bag check.
+scenario_record = bag_check.scenario_record
 
 
 def config_value(config, path):
