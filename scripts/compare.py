@@ -227,9 +227,10 @@ def run_labels(name_a, name_b, diffs, shown=2):
         return f"{name_a} (same scenario)", f"{name_b} (same scenario)"
     more = f", +{len(diffs) - shown} more" if len(diffs) > shown else ""
     # A long key path by its last two parts (the table in compare.md gives it whole).
-    label = lambda side: ", ".join(f"{'.'.join(k.split('.')[-2:]) if len(k) > 40 else k}={short(v[side])}"  # noqa: E731
-                                   for k, *v in diffs[:shown]) + more
-    return f"{name_a}: {label(0)}", f"{name_b}: {label(1)}"
+    keys = [".".join(k.split(".")[-2:]) if len(k) > 40 else k for k, _, _ in diffs[:shown]]
+    label_a = ", ".join(f"{k}={short(a)}" for k, (_, a, _) in zip(keys, diffs)) + more
+    label_b = ", ".join(f"{k}={short(b)}" for k, (_, _, b) in zip(keys, diffs)) + more
+    return f"{name_a}: {label_a}", f"{name_b}: {label_b}"
 
 
 def compare_sensors(a, b, name_a, name_b, outdir, measured=None):

@@ -180,12 +180,9 @@ class Monitor:
         t_s = msg.header.stamp.to_sec()
         buffers = self.sensors[name]
         topic = names.sensor_topic(name, "velocity")
-        v = (msg.vector.x, msg.vector.y, msg.vector.z)
-        bad = [(axis, x) for axis, x in zip("xyz", v) if not abs(x) <= railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S]
-        if bad or not math.isfinite(t_s):
-            self.refuse(buffers, f"topic {topic}: " + (f"vector.{bad[0][0]} = {bad[0][1]:g}: must be finite with "
-                                                       f"magnitude <= {railvib_contracts.DEFAULT_VELOCITY_LIMIT_M_S:g} m/s"
-                                                       if bad else f"stamp {t_s} is not a time"))
+        problem = railvib_contracts.velocity_problem(topic, msg.vector)
+        if problem or not math.isfinite(t_s):
+            self.refuse(buffers, problem or f"topic {topic}: stamp {t_s} is not a time")
             return
         restarted_from = None
         with buffers.lock:

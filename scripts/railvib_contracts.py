@@ -114,6 +114,17 @@ def metrics_problem(topic, msg, velocity_limit_m_s=DEFAULT_VELOCITY_LIMIT_M_S, k
     return _check(_metrics, topic, msg, float(velocity_limit_m_s), list(known_sensors))
 
 
+def velocity_problem(topic, vector_m_s, velocity_limit_m_s=DEFAULT_VELOCITY_LIMIT_M_S):
+    """Why a sensor's velocity sample (geometry_msgs/Vector3: x, y, z in m/s) is refused, or None."""
+    bound = float(velocity_limit_m_s)
+    for axis in "xyz":
+        v = float(getattr(vector_m_s, axis))
+        if not abs(v) <= bound:  # also true for NaN
+            return (f"topic {topic}: vector.{axis} = {v:g}: must be finite with magnitude <= {bound:g} m/s "
+                    "(limits.velocity_m_s)")
+    return None
+
+
 def _spacing(topic, field, value):
     _finite_within(topic, field, value, 1e-9, MAX_TRANSLATION_M, "a grid spacing in m, positive")
 

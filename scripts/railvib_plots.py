@@ -9,6 +9,7 @@
 
 Nothing here computes a limit or a level: the values come from the core (din-guides, metrics)."""
 import json
+import math
 import subprocess
 
 import railvib_paths
@@ -101,7 +102,7 @@ def mark_ppv(ax, frequency_hz, ppv_mm_s, component, label=None, size=7):
 def third_octave_floor(levels_db):
     """The bottom of a band level axis (dB): 5 dB under the lowest finite level, at most 80 dB under the
     highest (an empty band, -inf, would flatten the others). None when no level is finite."""
-    finite = [float(v) for v in levels_db if v is not None and float(v) == float(v) and abs(float(v)) != float("inf")]
+    finite = [float(v) for v in levels_db if v is not None and math.isfinite(float(v))]
     if not finite:
         return None, None
     top = max(finite) + 5.0
