@@ -167,6 +167,7 @@ MeshInclusion snapInclusion(const StructuredMesh& mesh, const InclusionSpec& spe
   inc.is_void = spec.is_void;
   inc.material = spec.material;
   inc.rayleigh_beta_s = spec.rayleigh_beta_s;
+  inc.implicit = spec.implicit;
   inc.elements = {s[0].index, s[1].index, s[2].index, s[3].index, s[4].index, s[5].index};
   // A box thinner than one element along an axis would vanish from the mesh or be inflated by the snapping.
   double element[3] = {mesh.hx, mesh.hy, 1e300};

@@ -57,10 +57,18 @@ RigidBodyCore::RigidBodyCore(const StructuredMesh& m, const std::vector<double>&
   state_.y_min_m = m.y(static_cast<size_t>(j0));
   state_.y_max_m = m.y(static_cast<size_t>(j1));
   state_.depth_m = m.z[k1];
+  // A ring: node lines within ring_x / ring_y elements of the region's edge.
+  const long ring_x = spec.ring_width_m > 0.0 ? std::max(1L, std::lround(spec.ring_width_m / m.hx)) : 0;
+  const long ring_y = spec.ring_width_m > 0.0 ? std::max(1L, std::lround(spec.ring_width_m / m.hy)) : 0;
+  auto inRing = [&](long i, long j) {
+    if (spec.ring_width_m <= 0.0) return true;
+    return i - i0 <= ring_x || i1 - i <= ring_x || j - j0 <= ring_y || j1 - j <= ring_y;
+  };
   Eigen::Matrix<double, 6, 6> soil_mass = Eigen::Matrix<double, 6, 6>::Zero();
   for (size_t k = 0; k <= k1; ++k) {
     for (long j = j0; j <= j1; ++j) {
       for (long i = i0; i <= i1; ++i) {
+        if (!inRing(i, j)) continue;
         const size_t node = m.node(static_cast<size_t>(i), static_cast<size_t>(j), k);
         const Eigen::Vector3d r =
             Eigen::Vector3d(m.x(static_cast<size_t>(i)), m.y(static_cast<size_t>(j)), m.z[k]) - spec.reference_m;
@@ -102,6 +110,8 @@ RigidBodyCore::RigidBodyCore(const StructuredMesh& m, const std::vector<double>&
     omega2_[6 + i] = st.circular_frequency_rad_s[i] * st.circular_frequency_rad_s[i];
     c[6 + i] = 2.0 * st.damping_ratio[i] * st.circular_frequency_rad_s[i];
   }
+  coupled_mass_ = mc;
+  damping_ = c;
   // Held rigid DOFs: their rows and columns are dropped (velocity 0).
   for (int i = 0; i < n; ++i) {
     if (i >= 6 || !spec.held[static_cast<size_t>(i)]) active_.push_back(i);
@@ -145,8 +155,14 @@ void RigidBodyCore::advance() {
     fa[r] = force_[active_[r]];
   }
   const Eigen::VectorXd vn = a_inv_b_ * va + a_inv_ * fa;
-  v_.setZero();
-  for (int r = 0; r < na; ++r) v_[active_[r]] = vn[r];
+  Eigen::VectorXd v_next = Eigen::VectorXd::Zero(n);
+  for (int r = 0; r < na; ++r) v_next[active_[r]] = vn[r];
+  commitVelocity(v_next);
+}
+
+void RigidBodyCore::commitVelocity(const Eigen::VectorXd& v_next) {
+  const int n = static_cast<int>(x_.size());
+  v_ = v_next;
   x_ += dt_ * v_;
   vf_ = e_ * vf_ + (1.0 - e_) * v_.head<6>();
   state_.displacement = x_.head<6>();

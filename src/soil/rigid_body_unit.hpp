@@ -25,6 +25,19 @@ class RigidBodyCore {
   void setForce(const Eigen::Matrix<double, 6, 1>& force);
   /// One central-difference step of the body and its modes.
   void advance();
+  /// The step's matrices, for a unit that advances the body inside a larger implicit system
+  /// (implicit_unit.hpp): coupled mass (carried soil nodes included; 6 rigid DOFs then the modes),
+  /// damping (diagonal), stiffness (diagonal: the modes' w^2) and the DOFs not held.
+  const Eigen::MatrixXd& coupledMass() const { return coupled_mass_; }
+  const Eigen::VectorXd& dampingDiagonal() const { return damping_; }
+  const Eigen::VectorXd& stiffnessDiagonal() const { return omega2_; }
+  const std::vector<int>& activeDofs() const { return active_; }
+  /// Velocities q'_{n-1/2} and displacements q_n of all 6 + modes DOFs, and the generalised force F_n.
+  const Eigen::VectorXd& fullVelocity() const { return v_; }
+  const Eigen::VectorXd& fullDisplacement() const { return x_; }
+  const Eigen::Matrix<double, 6, 1>& soilForce() const { return soil_force_; }
+  /// Take q'_{n+1/2} (all DOFs, held ones 0) solved elsewhere: q_{n+1}, the damping filter and the state.
+  void commitVelocity(const Eigen::VectorXd& v_next);
   /// u + w x r_a of a rigid 6-vector at carried node a.
   Eigen::Vector3d nodeValue(const Eigen::Matrix<double, 6, 1>& q, size_t a) const;
   Eigen::Matrix<double, 6, 1> displacement() const { return x_.head<6>(); }
@@ -42,8 +55,10 @@ class RigidBodyCore {
   std::vector<Eigen::Vector3d> offsets_;
   std::vector<int> active_;  // DOFs not held
   Eigen::MatrixXd a_inv_, a_inv_b_;
-  Eigen::MatrixXd extra_mass_;  // coupled mass matrix minus the carried soil nodes' part
-  Eigen::VectorXd omega2_;      // modal stiffness (0 for the rigid DOFs)
+  Eigen::MatrixXd extra_mass_;    // coupled mass matrix minus the carried soil nodes' part
+  Eigen::MatrixXd coupled_mass_;  // the whole coupled mass matrix
+  Eigen::VectorXd damping_;       // modal damping 2 z w (0 for the rigid DOFs)
+  Eigen::VectorXd omega2_;        // modal stiffness (0 for the rigid DOFs)
   Eigen::VectorXd x_, v_, vf_, force_;
   Eigen::Matrix<double, 6, 1> soil_force_ = Eigen::Matrix<double, 6, 1>::Zero();
   RigidBodyState state_;

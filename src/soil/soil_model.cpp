@@ -144,6 +144,7 @@ nlohmann::json inclusionsSummary(const StructuredMesh& m) {
       j["vs_m_s"] = inc.material.vs();
       j["vp_m_s"] = inc.material.vp();
       if (inc.rayleigh_beta_s >= 0.0) j["rayleigh_beta_s"] = inc.rayleigh_beta_s;
+      j["integration"] = inc.implicit ? "implicit" : "explicit";
     }
     out.push_back(j);
   }

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "implicit_unit.hpp"
 #include "inclusion_unit.hpp"
 #include "rigid_body_unit.hpp"
 
@@ -35,8 +36,9 @@ struct Solver::Impl {
   /// Spread over ranks: the communicator and partition (before setKernel).
   virtual void setPartition(SoilComm* comm, const SlabPartition& partition) = 0;
   virtual void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) = 0;
-  /// The unit of the mesh's material inclusions (inclusion_unit.hpp), after the boundary's.
-  virtual void addInclusions(double soil_beta_s) = 0;
+  /// The unit of the mesh's material inclusions (inclusion_unit.hpp), after the boundary's; and, when some
+  /// are implicit, the unit that solves their nodes (implicit_unit.hpp), built on the whole mesh.
+  virtual void addInclusions(double soil_beta_s, const StructuredMesh& global_mesh) = 0;
   virtual double kernelMultiplyAdds() const = 0;
   virtual size_t attachRigidBody(const RigidBodySpec& spec, const StructuredMesh& global_mesh,
                                  const std::vector<double>& global_mass) = 0;
@@ -69,8 +71,9 @@ struct ImplT : Solver::Impl {
   SlabPartition partition;
   std::vector<Real> send_low, send_high, recv_low, recv_high;
   std::vector<std::unique_ptr<SolverUnit<Real>>> units;
-  std::vector<const RigidBodyUnit<Real>*> bodies;
+  std::vector<const RigidBodyCore*> bodies;
   const InclusionUnit<Real>* inclusions = nullptr;
+  ImplicitUnit<Real>* implicit_unit = nullptr;
   StepContext<Real> ctx;
 
   void init(const StructuredMesh& m, const SolverOptions& o, double dt_s, const std::vector<double>& mass,
@@ -160,10 +163,18 @@ struct ImplT : Solver::Impl {
     }
   }
   void addUnit(const SoilBoundary& boundary, const BoundaryContext& bc) override;
-  void addInclusions(double soil_beta_s) override {
+  void addInclusions(double soil_beta_s, const StructuredMesh& global_mesh) override {
     auto unit = std::make_unique<InclusionUnit<Real>>(*mesh, soil_beta_s, threads);
     inclusions = unit.get();
     units.push_back(std::move(unit));
+    const bool any_implicit = std::any_of(global_mesh.inclusions.begin(), global_mesh.inclusions.end(),
+                                          [](const MeshInclusion& inc) { return inc.implicit; });
+    if (!any_implicit) return;
+    auto solve = std::make_unique<ImplicitUnit<Real>>(global_mesh, static_cast<double>(dt),
+                                                      static_cast<double>(e_filter), static_cast<double>(beta));
+    if (comm) solve->spread(*mesh, partition, comm);
+    implicit_unit = solve.get();
+    units.push_back(std::move(solve));
   }
 
   double kernelMultiplyAdds() const override {
@@ -173,14 +184,23 @@ struct ImplT : Solver::Impl {
   size_t attachRigidBody(const RigidBodySpec& spec, const StructuredMesh& global_mesh,
                          const std::vector<double>& global_mass) override {
     if (ctx.step != 0) throw std::logic_error("soil solver: attach rigid bodies before the first step");
+    if (implicit_unit) {
+      // With implicit inclusions a body is advanced in their solve: its carried nodes may touch them (a house
+      // on a meshed foundation), and a body apart costs that solve a few rows only.
+      auto core = std::make_unique<RigidBodyCore>(global_mesh, global_mass, spec, static_cast<double>(dt),
+                                                  static_cast<double>(e_filter), static_cast<double>(beta));
+      bodies.push_back(core.get());
+      implicit_unit->absorb(std::move(core));
+      return bodies.size() - 1;
+    }
     auto unit = std::make_unique<RigidBodyUnit<Real>>(global_mesh, global_mass, spec, static_cast<double>(dt),
                                                       static_cast<double>(e_filter), static_cast<double>(beta));
     if (comm) unit->spread(*mesh, partition, comm);
-    bodies.push_back(unit.get());
+    bodies.push_back(&unit->core());
     units.push_back(std::move(unit));
     return bodies.size() - 1;
   }
-  const RigidBodyState& rigidBody(size_t i) const override { return bodies.at(i)->core().state(); }
+  const RigidBodyState& rigidBody(size_t i) const override { return bodies.at(i)->state(); }
   size_t rigidBodyCount() const override { return bodies.size(); }
   double unitEnergy() const override {
     double e = 0.0;
@@ -381,7 +401,7 @@ Solver::Solver(StructuredMesh mesh, const SolverOptions& options, std::shared_pt
   impl_->setPartition(comm_.get(), partition_);
   impl_->setKernel(options_.kernel, kernel_box_);
   impl_->addUnit(*boundary_, bc);
-  if (!mesh_.inclusions.empty()) impl_->addInclusions(options_.rayleigh_beta_s);
+  if (!mesh_.inclusions.empty()) impl_->addInclusions(options_.rayleigh_beta_s, global_mesh_);
 }
 
 // A nodal quantity of the slab's elements summed with the neighbours' at the shared planes (set-up).
@@ -483,7 +503,8 @@ void Solver::computeStabilityLimits() {
   // An inclusion's elements with their own material and Rayleigh coefficient (a void has none).
   double dt_inclusions = std::numeric_limits<double>::infinity();
   for (const MeshInclusion& inc : mesh_.inclusions) {
-    if (inc.is_void) continue;
+    // A void has no elements; an implicit inclusion's do not limit the step (implicit_unit.hpp).
+    if (inc.is_void || inc.implicit) continue;
     const double beta_i = inc.rayleigh_beta_s >= 0.0 ? inc.rayleigh_beta_s : beta;
     for (size_t k = inc.elements.k0; k < inc.elements.k1; ++k) {
       const double lam_i = boxElementMaxEigenvalue(mesh_.hx, mesh_.hy, mesh_.z[k + 1] - mesh_.z[k], inc.material);

@@ -46,8 +46,8 @@ StructuredMesh layeredMesh() { return railvib::soil::testing::layeredTestMesh(kN
 
 // Across the cut (column 24), off the 2 m graded layer (columns and rows 8..40 / 8..32): an open trench
 // (columns 16..32, rows 22..24, 1 m deep) and a buried concrete wall damped by its own Rayleigh
-// coefficient (columns 18..30, rows 9..11, depth 0.4-2.1 m).
-StructuredMesh meshWithInclusions() {
+// coefficient (columns 18..30, rows 9..11, depth 0.4-2.1 m), or integrated implicitly and undamped.
+StructuredMesh meshWithInclusions(bool implicit_wall) {
   StructuredMesh m = layeredMesh();
   InclusionSpec trench;
   trench.name = "trench";
@@ -63,6 +63,10 @@ StructuredMesh meshWithInclusions() {
   wall.x_min_m = -6.0 + 18 * 0.25, wall.x_max_m = -6.0 + 30 * 0.25;
   wall.y_min_m = -5.0 + 9 * 0.25, wall.y_max_m = -5.0 + 11 * 0.25;
   wall.top_m = 0.4, wall.bottom_m = 2.1;
+  if (implicit_wall) {
+    wall.implicit = true;
+    wall.rayleigh_beta_s = 0.0;
+  }
   addInclusions(m, {trench, wall}, 1e-9);
   return m;
 }
@@ -73,6 +77,7 @@ struct Case {
   Precision precision = Precision::Float;
   bool rigid_body = false;
   bool inclusions = false;
+  bool implicit = false;  // the wall implicit and the rigid body a one-element ring on its top face
 };
 
 SolverOptions options(const Case& c) {
@@ -92,7 +97,7 @@ SolverOptions options(const Case& c) {
 }
 
 // A massive surface foundation across the cut (columns 20..28, the shared plane 24 in the middle).
-RigidBodySpec foundation() {
+RigidBodySpec foundation(bool ring) {
   RigidBodySpec b;
   b.x_min_m = -6.0 + 20 * 0.25;
   b.x_max_m = -6.0 + 28 * 0.25;
@@ -102,6 +107,7 @@ RigidBodySpec foundation() {
   b.reference_m = Eigen::Vector3d(0.5 * (b.x_min_m + b.x_max_m), 0.5 * (b.y_min_m + b.y_max_m), 0.0);
   const double m = 4.0e3;
   b.added_mass.diagonal() << m, m, m, 1.5e3, 2.5e3, 3.0e3;
+  if (ring) b.ring_width_m = 0.25;
   return b;
 }
 
@@ -126,8 +132,8 @@ std::vector<double> gatherNodes(const Solver& s, bool displacement) {
 
 // Loads: one patch on the shared plane (columns 22..26), one in each slab.
 Result run(const Case& c, std::shared_ptr<SoilComm> comm) {
-  Solver s(c.inclusions ? meshWithInclusions() : layeredMesh(), options(c), std::move(comm));
-  if (c.rigid_body) s.attachRigidBody(foundation());
+  Solver s(c.inclusions ? meshWithInclusions(c.implicit) : layeredMesh(), options(c), std::move(comm));
+  if (c.rigid_body) s.attachRigidBody(foundation(c.implicit));
   const StructuredMesh& m = s.mesh();
   const size_t patches[3][2] = {{22, 18}, {10, 12}, {34, 26}};
   for (const auto& p : patches) {
@@ -190,8 +196,21 @@ void expectAgreesWithOneRank(const Case& c, const char* what) {
       what, peak, d21 / peak, d2x / peak, d1x / peak, tol / peak, spread.kinetic_j / one.kinetic_j - 1.0);
   EXPECT_LE(d21, tol) << what << ": 2 ranks vs 1 rank";
   EXPECT_LE(d2x, tol) << what << ": 2 ranks vs double";
-  EXPECT_LE(maxAbsDiff(spread.final_u, one.final_u), kSteps * u * maxAbs(exact.final_u)) << what;
-  EXPECT_LE(maxAbsDiff(spread.final_v, one.final_v), kSteps * u * maxAbs(exact.final_v)) << what;
+  if (!c.implicit) {
+    EXPECT_LE(maxAbsDiff(spread.final_u, one.final_u), kSteps * u * maxAbs(exact.final_u)) << what;
+    EXPECT_LE(maxAbsDiff(spread.final_v, one.final_v), kSteps * u * maxAbs(exact.final_v)) << what;
+  } else {
+    // Inside a stiff implicit inclusion the float force f_n - K u_n carries eps |K_I u|, the modulus
+    // contrast times the soil's round-off, and the solve spreads it over the inclusion: its final
+    // velocities sit ~1e-5 of the peak from double (the surface above stays at the soil's level). The
+    // rank count must add nothing to that: 2 ranks as close to double as 1 rank is.
+    for (std::vector<double> Result::*field : {&Result::final_u, &Result::final_v}) {
+      const double one_off = maxAbsDiff(one.*field, exact.*field), spread_off = maxAbsDiff(spread.*field, exact.*field);
+      std::printf("  final %s: max |diff| vs double, 1 rank %.2e, 2 ranks %.2e (field peak %.2e)\n",
+                  field == &Result::final_u ? "u" : "v", one_off, spread_off, maxAbs(exact.*field));
+      EXPECT_LE(spread_off, std::max(1.5 * one_off, kSteps * u * maxAbs(exact.*field))) << what;
+    }
+  }
   // The energy is a sum of squares over the owned nodes: the shared plane counted once.
   EXPECT_NEAR(spread.kinetic_j / one.kinetic_j, 1.0, 2.0 * kSteps * u) << what;
   if (c.rigid_body) {
@@ -242,6 +261,12 @@ TEST(SoilMpi, InclusionsAcrossTheCutAgreeWithOneRank) {
                             kernel == KernelKind::Element ? "graded layer, element, trench and wall across the cut"
                                                           : "graded layer, stencil, trench and wall across the cut");
   }
+}
+
+// The implicit system spans the cut: the wall's nodes on both slabs and a rigid ring absorbed into it.
+TEST(SoilMpi, ImplicitWallAndRingAcrossTheCutAgreeWithOneRank) {
+  expectAgreesWithOneRank({BoundaryMethod::GradedLayer, KernelKind::Element, Precision::Float, true, true, true},
+                          "graded layer, element, implicit wall and rigid ring across the cut");
 }
 
 TEST(SoilMpi, FixedDecompositionIsBitwiseReproducible) {

@@ -76,6 +76,9 @@ struct InclusionSpec {
   Material material;
   /// Its stiffness-proportional Rayleigh coefficient (s); < 0: the soil's (SolverOptions::rayleigh_beta_s).
   double rayleigh_beta_s = -1.0;
+  /// Integrate its stiffness implicitly (soil/implicit_unit.hpp): a stiff material then does not set the
+  /// explicit step. Such an inclusion is undamped (rayleigh_beta_s 0).
+  bool implicit = false;
   double x_min_m = 0.0, x_max_m = 0.0, y_min_m = 0.0, y_max_m = 0.0;
   double top_m = 0.0, bottom_m = 0.0;  // depth of the top and bottom faces
 };
@@ -87,6 +90,7 @@ struct MeshInclusion {
   bool is_void = false;
   Material material;
   double rayleigh_beta_s = -1.0;
+  bool implicit = false;
   /// Largest distance (m) a face moved to the nearest element face.
   double moved_m = 0.0;
 };

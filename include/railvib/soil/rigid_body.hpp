@@ -49,6 +49,9 @@ struct RigidBodySpec {
   double x_min_m = 0.0, x_max_m = 0.0, y_min_m = 0.0, y_max_m = 0.0, depth_m = 0.0;
   double snap_tolerance_m = 1e-6;
   bool snap_to_nearest = false;
+  /// > 0: only the nodes within this plan distance of the region's edge, rounded to whole elements (at
+  /// least one), are carried: a ring, e.g. the tops of a foundation's walls that a house stands on.
+  double ring_width_m = 0.0;
   /// Reference point of the rigid DOFs (internal frame: x, y, d).
   Eigen::Vector3d reference_m = Eigen::Vector3d::Zero();
   /// Mass added to the carried soil nodes (about the reference point).
