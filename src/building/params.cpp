@@ -82,6 +82,8 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
     f.fail("base_slab_thickness_m", "must be smaller than the foundation depth");
   }
   p.ground_slab_on_fill = f.flag("ground_slab_on_fill", true);
+  p.foundation_model =
+      f.choice("model", {"rigid", "meshed"}, "rigid") == "meshed" ? FoundationModel::Meshed : FoundationModel::Rigid;
 
   if (b.has("mesh")) {
     const ConfigNode mesh = b.section("mesh");

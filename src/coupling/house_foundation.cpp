@@ -1,6 +1,9 @@
 #include "railvib/coupling/house_foundation.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "railvib/soil/boundary.hpp"
 
@@ -22,6 +25,56 @@ std::string str(double v) {
 }
 
 }  // namespace
+
+std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams& bp, const soil::SoilParams& sp) {
+  // The soil mesh's node planes (its inclusions aside): each face of the box goes to the nearest one, as the
+  // rigid body's do, and each wall and slab keeps at least one element of thickness.
+  soil::MeshSpec plain = sp.mesh;
+  plain.inclusions.clear();
+  const soil::StructuredMesh m = soil::buildMesh(sp.profile, plain);
+  auto nearestIndex = [](double v, double v0, double h, size_t n) {
+    return std::clamp<long>(std::lround((v - v0) / h), 0L, static_cast<long>(n));
+  };
+  auto elements = [](double thickness, double h) { return std::max(1L, std::lround(thickness / h)); };
+  const double x0 = bp.placement.origin_x_m, y0 = bp.placement.origin_y_m;
+  const long i0 = nearestIndex(x0, m.x0, m.hx, m.nx), i1 = nearestIndex(x0 + bp.length_m, m.x0, m.hx, m.nx);
+  const long j0 = nearestIndex(y0, m.y0, m.hy, m.ny), j1 = nearestIndex(y0 + bp.width_m, m.y0, m.hy, m.ny);
+  const long wx = elements(bp.foundation_wall_thickness_m, m.hx), wy = elements(bp.foundation_wall_thickness_m, m.hy);
+  auto nearestLevel = [&](double depth) {
+    size_t best = 0;
+    for (size_t k = 0; k <= m.nz; ++k)
+      if (std::abs(m.z[k] - depth) < std::abs(m.z[best] - depth)) best = k;
+    return static_cast<long>(best);
+  };
+  const long k_bottom = std::max(1L, nearestLevel(bp.foundation_depth_m));
+  const long k_base = std::min(k_bottom - 1, nearestLevel(bp.foundation_depth_m - bp.base_slab_thickness_m));
+  const long k_top = bp.ground_slab_on_fill ? std::max(1L, nearestLevel(bp.floor_thickness_m)) : 0L;
+  if (i1 - i0 < 2 * wx + 1 || j1 - j0 < 2 * wy + 1 || k_base <= k_top) {
+    throw std::invalid_argument(
+        "building.foundation.model meshed: the soil mesh is too coarse for the foundation box (its walls and slabs "
+        "need one element each and room between them)");
+  }
+  soil::Material concrete{bp.foundation.young_modulus_pa, bp.foundation.density_kg_m3, bp.foundation.poisson()};
+  auto box = [&](const std::string& name, long a0, long a1, long b0, long b1, long c0, long c1) {
+    soil::InclusionSpec s;
+    s.name = "house_foundation_" + name;
+    s.material = concrete;
+    s.implicit = true;
+    s.rayleigh_beta_s = 0.0;
+    s.x_min_m = m.x(static_cast<size_t>(a0)), s.x_max_m = m.x(static_cast<size_t>(a1));
+    s.y_min_m = m.y(static_cast<size_t>(b0)), s.y_max_m = m.y(static_cast<size_t>(b1));
+    s.top_m = m.z[static_cast<size_t>(c0)], s.bottom_m = m.z[static_cast<size_t>(c1)];
+    return s;
+  };
+  std::vector<soil::InclusionSpec> out;
+  out.push_back(box("base_slab", i0, i1, j0, j1, k_base, k_bottom));
+  if (k_top > 0) out.push_back(box("ground_slab", i0, i1, j0, j1, 0, k_top));
+  out.push_back(box("front_wall", i0, i1, j0, j0 + wy, k_top, k_base));
+  out.push_back(box("back_wall", i0, i1, j1 - wy, j1, k_top, k_base));
+  out.push_back(box("left_wall", i0, i0 + wx, j0 + wy, j1 - wy, k_top, k_base));
+  out.push_back(box("right_wall", i1 - wx, i1, j0 + wy, j1 - wy, k_top, k_base));
+  return out;
+}
 
 HouseFoundation houseFoundation(const ConfigNode& root, const building::BuildingModel& model,
                                 const soil::SoilParams& sp) {
@@ -60,6 +113,7 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
   }
 
   HouseFoundation h;
+  h.model = bp.foundation_model;
   const Eigen::Vector3d centre_building(0.5 * bp.length_m, 0.5 * bp.width_m, 0.0);
   h.reduction = building::reduceOnRigidBase(model, fmax, centre_building);
   const Eigen::Matrix<double, 6, 6> d = frameChange();
@@ -79,6 +133,18 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
   h.concrete_mass_kg = h.reduction.foundation_rigid_mass(0, 0);
   h.displaced_soil_mass_kg = ratio * h.concrete_mass_kg;
   b.added_mass = d * ((1.0 - ratio) * h.reduction.foundation_rigid_mass) * d;
+  if (h.model == building::FoundationModel::Meshed) {
+    // The concrete is in the soil mesh; the house stands on the tops of the box's walls, its rigid
+    // interface (the Craig-Bampton reduction's), carried as a ring of surface nodes.
+    try {
+      h.inclusions = meshedFoundation(bp, sp);
+    } catch (const std::invalid_argument& e) {
+      bld.section("foundation").fail("model", e.what());
+    }
+    b.added_mass.setZero();
+    b.depth_m = 0.0;
+    b.ring_width_m = bp.foundation_wall_thickness_m;
+  }
   soil::ReducedStructure& st = b.structure;
   st.rigid_mass = d * h.reduction.superstructure_rigid_mass * d;
   st.participation = h.reduction.participation * d;
@@ -87,11 +153,20 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
   return h;
 }
 
-std::vector<soil::RigidBodySpec> attachedBodies(const ConfigNode& root, const soil::SoilParams& soil_params) {
+std::vector<soil::RigidBodySpec> attachHouse(const ConfigNode& root, soil::SoilParams& soil_params) {
   if (!root.has("building")) return {};
   const building::BuildingModel house(building::loadBuildingParams(root));
   if (house.params().coupling != building::SoilCoupling::TwoWay) return {};
-  return {houseFoundation(root, house, soil_params).body};
+  const HouseFoundation h = houseFoundation(root, house, soil_params);
+  for (const soil::InclusionSpec& inc : h.inclusions) {
+    for (const soil::InclusionSpec& other : soil_params.mesh.inclusions) {
+      if (other.name == inc.name) {
+        root.section("soil").fail("inclusions", "'" + inc.name + "' is the name of the house's meshed foundation");
+      }
+    }
+    soil_params.mesh.inclusions.push_back(inc);
+  }
+  return {h.body};
 }
 
 soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footprint) {

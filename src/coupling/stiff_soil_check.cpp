@@ -46,10 +46,10 @@ struct SoilRun {
 SoilRun runSoil(const Config& cfg, const StiffSoilSpec& spec, bool two_way) {
   const auto t0 = std::chrono::steady_clock::now();
   const ConfigNode root = cfg.root();
-  const soil::SoilParams params = soil::loadSoilParams(root, houseReceivers(root, true));
+  soil::SoilParams params = soil::loadSoilParams(root, houseReceivers(root, true));
   const std::vector<double> sleepers = params.track.sleeperPositions();
   require(!sleepers.empty(), "the scenario has no sleepers");
-  const std::vector<soil::RigidBodySpec> bodies = attachedBodies(root, params);
+  const std::vector<soil::RigidBodySpec> bodies = attachHouse(root, params);
   require(bodies.size() == (two_way ? 1u : 0u), "building.coupling did not give the expected foundation body");
   // Loads at 10 samples per pulse millisecond or more: the soil interpolates them to its step.
   const double load_rate_hz = std::max(2000.0, 20.0 / spec.pulse_s);

@@ -39,7 +39,7 @@ SoilSetup soilSetup(const ConfigNode& root, bool include_footprint) {
   SoilSetup s;
   s.params = soil::loadSoilParams(root, coupling::houseReceivers(root, include_footprint));
   // building.coupling two_way: the house's foundation is a rigid body in the soil (when the house is in the run).
-  if (include_footprint) s.bodies = coupling::attachedBodies(root, s.params);
+  if (include_footprint) s.bodies = coupling::attachHouse(root, s.params);
   const track::TrackParams track_params = track::loadTrackParams(root);
   s.load_sample_rate_hz = track_params.load_sample_rate_hz;
   s.rail_seat_y_m = track::soilRailSeatPositions(track_params);

@@ -793,7 +793,7 @@ int soilRun(const std::vector<std::string>& args) {
   const Config cfg = loadConfig(p);
   const ConfigNode root = cfg.root();
   // The house's free-field receivers, as the soil node has them (its footprint is the building's input).
-  const SoilParams params = loadSoilParams(root, coupling::houseReceivers(root, false));
+  SoilParams params = loadSoilParams(root, coupling::houseReceivers(root, false));
   const double duration = p.getDouble("duration", 0.0, 3600.0) <= 0.0 ? vehicle::loadPassageParams(root).duration_s
                                                                       : p.getDouble("duration", 0.0, 3600.0);
 
@@ -896,7 +896,7 @@ int soilRun(const std::vector<std::string>& args) {
 
   const auto wall0 = std::chrono::steady_clock::now();
   // building.coupling: two_way puts the house's foundation (a rigid body carrying the reduced house) in the soil.
-  SoilModel model(params, sleeper_x, seat_y, rate, coupling::attachedBodies(cfg.root(), params), comm);
+  SoilModel model(params, sleeper_x, seat_y, rate, coupling::attachHouse(cfg.root(), params), comm);
   nlohmann::json summary = model.summary();
   summary["loads_per_sleeper"] = model.loadsPerSleeper();
   // Each rank's memory; the summary reports the largest.

@@ -50,6 +50,15 @@ enum class SoilCoupling {
   TwoWay,
 };
 
+/// How the two-way coupling models the foundation box in the soil.
+enum class FoundationModel {
+  /// The soil nodes inside the box move as one rigid body (the box's concrete added to their mass).
+  Rigid,
+  /// The box's walls, base slab and ground slab are concrete elements of the soil mesh (implicit soil
+  /// inclusions) and the house stands, on a rigid interface, on the tops of its walls.
+  Meshed,
+};
+
 struct BuildingParams {
   // Geometry [paper]: outer plan dimensions and height above the ground surface.
   double length_m = 10.0;
@@ -68,6 +77,7 @@ struct BuildingParams {
   double foundation_wall_thickness_m = 0.25;  ///< [assumed]
   double base_slab_thickness_m = 0.25;        ///< [assumed]
   bool ground_slab_on_fill = true;            ///< [assumed] ground slab follows the foundation
+  FoundationModel foundation_model = FoundationModel::Rigid;  ///< two_way only
 
   double element_size_m = 0.5;
   double damping_ratio = 0.02;  ///< [assumed] Rayleigh damping

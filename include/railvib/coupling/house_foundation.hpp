@@ -28,7 +28,18 @@ struct HouseFoundation {
   building::RigidBaseReduction reduction;
   /// Mass of the concrete of the foundation box (kg) and the soil it displaces (kg).
   double concrete_mass_kg = 0.0, displaced_soil_mass_kg = 0.0;
+  building::FoundationModel model = building::FoundationModel::Rigid;
+  /// Meshed: the box's concrete as implicit soil inclusions (meshedFoundation), the body a ring of the
+  /// walls' tops with no added mass.
+  std::vector<soil::InclusionSpec> inclusions;
 };
+
+/// The foundation box of `params` as concrete soil inclusions, aligned with the node planes of the soil mesh
+/// of `soil_params` (each face at the nearest plane, each wall and slab at least one element thick): base
+/// slab, ground slab (when it rests on the fill), four walls between them; implicit and undamped
+/// (soil/implicit_unit.hpp). Throws std::invalid_argument when the mesh is too coarse for the box.
+std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams& params,
+                                                  const soil::SoilParams& soil_params);
 
 /// The soil's rigid body for the house of `model` on the soil of `soil_params`. Checks the
 /// placement (inside the soil box and outside its absorbing zone, not deeper than the mesh, clear
@@ -36,9 +47,11 @@ struct HouseFoundation {
 HouseFoundation houseFoundation(const ConfigNode& root, const building::BuildingModel& model,
                                 const soil::SoilParams& soil_params);
 
-/// The rigid bodies the soil carries for a scenario: the house's foundation when the scenario has a
-/// house and building.coupling is two_way, else none.
-std::vector<soil::RigidBodySpec> attachedBodies(const ConfigNode& root, const soil::SoilParams& soil_params);
+/// The house in the soil of a scenario, when it has a house and building.coupling is two_way: returns
+/// the rigid body the soil carries (the foundation, or with building.foundation.model meshed the ring
+/// the house stands on) and adds a meshed foundation's concrete to soil_params.mesh.inclusions. None
+/// and no change otherwise.
+std::vector<soil::RigidBodySpec> attachHouse(const ConfigNode& root, soil::SoilParams& soil_params);
 
 /// The soil receivers a scenario's house needs: its free-field points, and, when the house is driven by
 /// this soil run (include_footprint), every footprint point (building::footprintPoints, in that order).

@@ -2,9 +2,12 @@
 // building's DOFs to the soil's, the masses, and the refusal of impossible placements.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "railvib/building/model.hpp"
 #include "railvib/common/config.hpp"
 #include "railvib/coupling/house_foundation.hpp"
+#include "railvib/soil/mesh.hpp"
 #include "railvib/soil/soil_params.hpp"
 
 using namespace railvib;
@@ -76,4 +79,70 @@ TEST(HouseFoundation, ImpossiblePlacementsAreRefusedWithTheKey) {
   const std::string few_modes = refusal({"building.coupling_modes_max_hz=60.0"});
   EXPECT_NE(few_modes.find("building.coupling_modes_max_hz"), std::string::npos) << few_modes;
   EXPECT_EQ(refusal({}), "accepted");
+}
+
+// building.foundation.model meshed: the box as a closed concrete shell on the soil's node planes (base
+// slab, ground slab, four walls, disjoint, the cavity between them the only gap), the house on a ring.
+TEST(HouseFoundation, MeshedFoundationIsAClosedConcreteShell) {
+  const Config cfg = harenConfig({"building.foundation.model=meshed"});
+  soil::SoilParams sp = soil::loadSoilParams(cfg.root());
+  const building::BuildingModel model(building::loadBuildingParams(cfg.root()));
+  const building::BuildingParams& bp = model.params();
+  const coupling::HouseFoundation h = coupling::houseFoundation(cfg.root(), model, sp);
+  ASSERT_EQ(h.inclusions.size(), 6u);  // the ground slab rests on the fill at Haren
+  std::map<std::string, const soil::InclusionSpec*> part;
+  double volume = 0.0;
+  for (const soil::InclusionSpec& s : h.inclusions) {
+    EXPECT_TRUE(s.implicit) << s.name;
+    EXPECT_EQ(s.rayleigh_beta_s, 0.0) << s.name;
+    EXPECT_EQ(s.material.young_modulus_pa, bp.foundation.young_modulus_pa) << s.name;
+    part[s.name.substr(std::string("house_foundation_").size())] = &s;
+    volume += (s.x_max_m - s.x_min_m) * (s.y_max_m - s.y_min_m) * (s.bottom_m - s.top_m);
+  }
+  for (size_t a = 0; a < h.inclusions.size(); ++a) {
+    for (size_t b = a + 1; b < h.inclusions.size(); ++b) {
+      const soil::InclusionSpec &p = h.inclusions[a], &q = h.inclusions[b];
+      const double ox = std::min(p.x_max_m, q.x_max_m) - std::max(p.x_min_m, q.x_min_m);
+      const double oy = std::min(p.y_max_m, q.y_max_m) - std::max(p.y_min_m, q.y_min_m);
+      const double oz = std::min(p.bottom_m, q.bottom_m) - std::max(p.top_m, q.top_m);
+      EXPECT_FALSE(ox > 1e-9 && oy > 1e-9 && oz > 1e-9) << p.name << " overlaps " << q.name;
+    }
+  }
+  const soil::InclusionSpec &base = *part.at("base_slab"), &ground = *part.at("ground_slab");
+  // The outer box within half an element of the house's footprint and the foundation's depth.
+  const soil::StructuredMesh mesh = soil::buildMesh(sp.profile, sp.mesh);
+  size_t k = 0;
+  while (mesh.z[k + 1] < bp.foundation_depth_m) ++k;
+  EXPECT_NEAR(base.x_min_m, bp.placement.origin_x_m, 0.5 * mesh.hx);
+  EXPECT_NEAR(base.x_max_m, bp.placement.origin_x_m + bp.length_m, 0.5 * mesh.hx);
+  EXPECT_NEAR(base.y_min_m, bp.placement.origin_y_m, 0.5 * mesh.hy);
+  EXPECT_NEAR(base.y_max_m, bp.placement.origin_y_m + bp.width_m, 0.5 * mesh.hy);
+  EXPECT_NEAR(base.bottom_m, bp.foundation_depth_m, 0.5 * (mesh.z[k + 1] - mesh.z[k]));
+  EXPECT_EQ(ground.top_m, 0.0);
+  // Closed: the walls' volume and the slabs' fill the outer box but for the cavity between them.
+  const double cavity = (part.at("right_wall")->x_min_m - part.at("left_wall")->x_max_m) *
+                        (part.at("back_wall")->y_min_m - part.at("front_wall")->y_max_m) *
+                        (base.top_m - ground.bottom_m);
+  const double outer = (base.x_max_m - base.x_min_m) * (base.y_max_m - base.y_min_m) * base.bottom_m;
+  EXPECT_GT(cavity, 0.0);
+  EXPECT_NEAR(volume, outer - cavity, 1e-9 * outer);
+  // The rigid body is the ring on the walls' tops: no added concrete, no depth.
+  EXPECT_EQ(h.body.depth_m, 0.0);
+  EXPECT_EQ(h.body.ring_width_m, bp.foundation_wall_thickness_m);
+  EXPECT_EQ(h.body.added_mass.norm(), 0.0);
+  EXPECT_GT(h.body.structure.rigid_mass(2, 2), 0.0);
+
+  // attachHouse puts the shell into the soil's inclusions once; a second house of the same name is refused.
+  const size_t before = sp.mesh.inclusions.size();
+  ASSERT_EQ(coupling::attachHouse(cfg.root(), sp).size(), 1u);
+  EXPECT_EQ(sp.mesh.inclusions.size(), before + 6);
+  try {
+    coupling::attachHouse(cfg.root(), sp);
+    ADD_FAILURE() << "a clash of inclusion names was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("soil.inclusions"), std::string::npos) << e.what();
+  }
+  // Slabs that leave no cavity between them on the mesh are refused at the model key.
+  const std::string coarse = refusal({"building.foundation.model=meshed", "building.foundation.base_slab_thickness_m=0.7"});
+  EXPECT_NE(coarse.find("building.foundation.model"), std::string::npos) << coarse;
 }
