@@ -13,10 +13,10 @@
 // update of the inclusions' nodes by one solve per step, in the solver's velocity form with its
 // diagonal damping C (NodalFields::va, vb):
 //   (M/dt + C/2 + dt/4 K_I) v_{n+1/2} = (M/dt - C/2 + dt/4 K_I) v_{n-1/2} + f_n
-// The matrix is constant: assembled and factorised (sparse LDL^T) once, at the first step, when the
-// nodal coefficients are known on every rank. A rigid body (rigid_body.hpp) joins the same solve
-// (a house standing on a meshed foundation): its carried nodes follow u_a = R_a q, so its rows and
-// columns are R^T (...) R plus its coupled mass and modal damping, and its generalised force is
+// The matrix is constant: assembled and factorised (sparse LDL^T, split_ldlt.hpp: its substitutions on
+// two threads) once, at the first step, when the nodal coefficients are known on every rank. A rigid body
+// (rigid_body.hpp) joins the same solve (a house standing on a meshed foundation): its carried nodes follow u_a = R_a
+// q, so its rows and columns are R^T (...) R plus its coupled mass and modal damping, and its generalised force is
 // sum_a R_a^T f_a. The unit keeps its nodes' state (u, v, the damping filter) itself and writes it
 // into the nodal fields after every step; an implicit inclusion is undamped (its Rayleigh term
 // would be explicit and set the step again: InclusionUnit takes the kernel's back over it).
@@ -24,7 +24,6 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <memory>
 #include <stdexcept>
@@ -36,6 +35,7 @@
 #include "railvib/soil/soil_comm.hpp"
 #include "railvib/soil/solver_unit.hpp"
 #include "rigid_body_unit.hpp"
+#include "split_ldlt.hpp"
 
 namespace railvib::soil {
 
@@ -44,8 +44,8 @@ namespace railvib::soil {
 class ImplicitCore {
  public:
   /// `mesh`: the whole mesh (its inclusions flagged implicit are taken); dt and the damping filter as
-  /// the solver's.
-  ImplicitCore(const StructuredMesh& mesh, double dt_s, double filter_decay, double beta_s);
+  /// the solver's; `threads` >= 2 substitutes on two threads (split_ldlt.hpp).
+  ImplicitCore(const StructuredMesh& mesh, double dt_s, double filter_decay, double beta_s, int threads);
 
   /// A rigid body advanced inside this system instead of by its own unit (before the first step).
   void absorb(std::unique_ptr<RigidBodyCore> body);
@@ -55,7 +55,8 @@ class ImplicitCore {
   /// nodes not already listed (global node indices).
   const std::vector<size_t>& nodes() const { return nodes_; }
   size_t implicitNodeCount() const { return implicit_nodes_; }
-  size_t unknowns() const { return static_cast<size_t>(matrix_.rows()); }
+  size_t unknowns() const { return static_cast<size_t>(rhs_.size()); }
+  const SplitLdlt& factor() const { return solver_; }
   bool ready() const { return ready_; }
 
   /// First step: per node (order of nodes()) va, vb, u, v and beta vf (3 each, 15 values) as the
@@ -93,8 +94,8 @@ class ImplicitCore {
   std::vector<int> dof_;              // per node and component: unknown or -1 (fixed or carried)
   std::vector<int> body_offset_;      // first unknown of each body's active DOFs
   std::vector<double> u_, filtered_;  // per node and component: u_n, beta vf_n
-  Eigen::SparseMatrix<double> matrix_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+  SplitLdlt solver_;
+  int threads_ = 1;
   Eigen::VectorXd damping_, z_, rhs_;
   bool ready_ = false;
 };
@@ -102,8 +103,8 @@ class ImplicitCore {
 template <class Real>
 class ImplicitUnit final : public SolverUnit<Real> {
  public:
-  ImplicitUnit(const StructuredMesh& global_mesh, double dt_s, double filter_decay, double beta_s)
-      : core_(global_mesh, dt_s, filter_decay, beta_s),
+  ImplicitUnit(const StructuredMesh& global_mesh, double dt_s, double filter_decay, double beta_s, int threads)
+      : core_(global_mesh, dt_s, filter_decay, beta_s, threads),
         global_sx_(global_mesh.nx + 1),
         global_sxy_((global_mesh.nx + 1) * (global_mesh.ny + 1)) {
     mapNodes(nullptr, nullptr);

@@ -170,8 +170,8 @@ struct ImplT : Solver::Impl {
     const bool any_implicit = std::any_of(global_mesh.inclusions.begin(), global_mesh.inclusions.end(),
                                           [](const MeshInclusion& inc) { return inc.implicit; });
     if (!any_implicit) return;
-    auto solve = std::make_unique<ImplicitUnit<Real>>(global_mesh, static_cast<double>(dt),
-                                                      static_cast<double>(e_filter), static_cast<double>(beta));
+    auto solve = std::make_unique<ImplicitUnit<Real>>(
+        global_mesh, static_cast<double>(dt), static_cast<double>(e_filter), static_cast<double>(beta), threads);
     if (comm) solve->spread(*mesh, partition, comm);
     implicit_unit = solve.get();
     units.push_back(std::move(solve));
