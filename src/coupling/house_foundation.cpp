@@ -46,9 +46,11 @@ std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams
       if (std::abs(m.z[k] - depth) < std::abs(m.z[best] - depth)) best = k;
     return static_cast<long>(best);
   };
+  // The slabs keep their thickness in elements (as the walls), from the bottom and from the surface: a
+  // face snapped on its own could double a slab thinner than an element.
   const long k_bottom = std::max(1L, nearestLevel(bp.foundation_depth_m));
-  const long k_base = std::min(k_bottom - 1, nearestLevel(bp.foundation_depth_m - bp.base_slab_thickness_m));
-  const long k_top = bp.ground_slab_on_fill ? std::max(1L, nearestLevel(bp.floor_thickness_m)) : 0L;
+  const long k_base = k_bottom - elements(bp.base_slab_thickness_m, m.z[k_bottom] - m.z[k_bottom - 1]);
+  const long k_top = bp.ground_slab_on_fill ? elements(bp.floor_thickness_m, m.z[1] - m.z[0]) : 0L;
   if (i1 - i0 < 2 * wx + 1 || j1 - j0 < 2 * wy + 1 || k_base <= k_top) {
     throw std::invalid_argument(
         "building.foundation.model meshed: the soil mesh is too coarse for the foundation box (its walls and slabs "

@@ -119,6 +119,9 @@ TEST(HouseFoundation, MeshedFoundationIsAClosedConcreteShell) {
   EXPECT_NEAR(base.y_max_m, bp.placement.origin_y_m + bp.width_m, 0.5 * mesh.hy);
   EXPECT_NEAR(base.bottom_m, bp.foundation_depth_m, 0.5 * (mesh.z[k + 1] - mesh.z[k]));
   EXPECT_EQ(ground.top_m, 0.0);
+  // Each slab as thick as the house's within half an element (at least one element).
+  EXPECT_NEAR(ground.bottom_m - ground.top_m, bp.floor_thickness_m, 0.5 * mesh.z[1]);
+  EXPECT_NEAR(base.bottom_m - base.top_m, bp.base_slab_thickness_m, 0.5 * (mesh.z[k + 1] - mesh.z[k]));
   // Closed: the walls' volume and the slabs' fill the outer box but for the cavity between them.
   const double cavity = (part.at("right_wall")->x_min_m - part.at("left_wall")->x_max_m) *
                         (part.at("back_wall")->y_min_m - part.at("front_wall")->y_max_m) *
