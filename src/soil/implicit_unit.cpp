@@ -13,9 +13,9 @@ ImplicitCore::ImplicitCore(const StructuredMesh& mesh, double dt_s, double filte
   for (const MeshInclusion& inc : mesh.inclusions) {
     if (!inc.implicit) continue;
     if (inc.is_void) throw std::invalid_argument("soil inclusion '" + inc.name + "': a void cannot be implicit");
-    if (inc.rayleigh_beta_s != 0.0) {
+    if (!(inc.rayleigh_beta_s >= 0.0)) {
       throw std::invalid_argument("soil inclusion '" + inc.name +
-                                  "': an implicit inclusion is undamped (its Rayleigh coefficient must be 0)");
+                                  "': an implicit inclusion needs its own Rayleigh coefficient (0 or more)");
     }
     implicit.push_back(&inc);
   }
@@ -41,6 +41,7 @@ ImplicitCore::ImplicitCore(const StructuredMesh& mesh, double dt_s, double filte
             corners.push_back(e.node[c]);
           }
           e.stiffness = level_stiffness_[q * mesh.nz + k].data();
+          e.beta_s = implicit[q]->rayleigh_beta_s;
           elements_.push_back(e);
         }
       }
@@ -140,22 +141,32 @@ void ImplicitCore::initialise(const std::vector<double>& values) {
     }
     count += static_cast<int>(active.size());
   }
-  // dt/4 K_I, each element's rows and columns through the terms of its nodal components.
+  // (dt/4 + beta/2) K_I, each element's rows and columns through the terms of its nodal components; the
+  // damping beta K_I apart too, for the right-hand side.
   std::vector<Term> tr, tq;
+  std::vector<Eigen::Triplet<double>> td;
   for (const Element& e : elements_) {
     for (int r = 0; r < 24; ++r) {
       terms(e.node[r / 3], r % 3, tr);
       if (tr.empty()) continue;
       for (int q = 0; q < 24; ++q) {
-        const double k = 0.25 * dt_ * e.stiffness[r * 24 + q];
+        const double k = e.stiffness[r * 24 + q];
         if (k == 0.0) continue;
         terms(e.node[q / 3], q % 3, tq);
         for (const Term& a : tr) {
-          for (const Term& b : tq) t.emplace_back(a.unknown, b.unknown, k * a.coefficient * b.coefficient);
+          for (const Term& b : tq) {
+            const double kab = k * a.coefficient * b.coefficient;
+            t.emplace_back(a.unknown, b.unknown, (0.25 * dt_ + 0.5 * e.beta_s) * kab);
+            if (e.beta_s > 0.0) td.emplace_back(a.unknown, b.unknown, e.beta_s * kab);
+          }
         }
       }
     }
   }
+  stiffness_damping_.resize(count, count);
+  stiffness_damping_.setFromTriplets(td.begin(), td.end());
+  td.clear();
+  td.shrink_to_fit();
   Eigen::SparseMatrix<double> matrix(count, count);
   matrix.setFromTriplets(t.begin(), t.end());
   // One level of nested dissection for the two-thread substitutions: the node plane i_mid (the median
@@ -229,8 +240,9 @@ void ImplicitCore::advance(const std::vector<double>& force, std::vector<double>
           d < 6 ? generalised[b][d] : -body.stiffnessDiagonal()[d] * body.fullDisplacement()[d];
     }
   }
-  // A v+ = (A - C) v- + f, C diagonal: the increment solves A (v+ - v-) = f - C v-.
+  // A v+ = (A - C) v- + f with C = C_nodal + beta K_I: the increment solves A (v+ - v-) = f - C v-.
   rhs_ -= damping_.cwiseProduct(z_);
+  if (stiffness_damping_.nonZeros() > 0) rhs_.noalias() -= stiffness_damping_ * z_;
   solver_.solveInPlace(rhs_, threads_);
   z_ += rhs_;
 

@@ -13,13 +13,15 @@
 // update of the inclusions' nodes by one solve per step, in the solver's velocity form with its
 // diagonal damping C (NodalFields::va, vb):
 //   (M/dt + C/2 + dt/4 K_I) v_{n+1/2} = (M/dt - C/2 + dt/4 K_I) v_{n-1/2} + f_n
+// An inclusion's own Rayleigh damping beta K_I joins C, integrated by the same trapezoidal rule (it
+// would set the step again if explicit); it damps the inclusion's stiff modes, which the
+// average-acceleration rule alone carries undamped.
 // The matrix is constant: assembled and factorised (sparse LDL^T, split_ldlt.hpp: its substitutions on
 // two threads) once, at the first step, when the nodal coefficients are known on every rank. A rigid body
 // (rigid_body.hpp) joins the same solve (a house standing on a meshed foundation): its carried nodes follow u_a = R_a
 // q, so its rows and columns are R^T (...) R plus its coupled mass and modal damping, and its generalised force is
 // sum_a R_a^T f_a. The unit keeps its nodes' state (u, v, the damping filter) itself and writes it
-// into the nodal fields after every step; an implicit inclusion is undamped (its Rayleigh term
-// would be explicit and set the step again: InclusionUnit takes the kernel's back over it).
+// into the nodal fields after every step (InclusionUnit takes the soil's own damping off the inclusion).
 #pragma once
 
 #include <Eigen/Dense>
@@ -71,6 +73,7 @@ class ImplicitCore {
   struct Element {
     size_t node[8];
     const double* stiffness;  // 24 x 24, row-major, DOF 3 c + d for corner c, component d
+    double beta_s = 0.0;      // its inclusion's Rayleigh coefficient
   };
   struct Carried {
     int body = -1;
@@ -95,6 +98,7 @@ class ImplicitCore {
   std::vector<int> body_offset_;      // first unknown of each body's active DOFs
   std::vector<double> u_, filtered_;  // per node and component: u_n, beta vf_n
   SplitLdlt solver_;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> stiffness_damping_;  // beta K_I over the unknowns
   int threads_ = 1;
   Eigen::VectorXd damping_, z_, rhs_;
   bool ready_ = false;

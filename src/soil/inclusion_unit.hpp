@@ -46,7 +46,9 @@ class InclusionUnit final : public SolverUnit<Real> {
         }
       }
       part.difference = makeElementKernel<Real>(mesh, inc.elements, threads, difference);
-      const bool own_damping = !inc.is_void && inc.rayleigh_beta_s >= 0.0 && inc.rayleigh_beta_s != soil_beta_s;
+      // An implicit inclusion's damping is in its own solve (implicit_unit.hpp): the soil's is taken off it here.
+      const double explicit_beta_s = inc.implicit ? 0.0 : inc.rayleigh_beta_s;
+      const bool own_damping = !inc.is_void && explicit_beta_s >= 0.0 && explicit_beta_s != soil_beta_s;
       if (own_damping) {
         if (!(soil_beta_s > 0.0)) {
           throw std::invalid_argument("soil inclusion '" + inc.name +
@@ -54,7 +56,7 @@ class InclusionUnit final : public SolverUnit<Real> {
                                       "(soil.rayleigh_beta_s > 0)");
         }
         part.own_damping = makeElementKernel<Real>(mesh, inc.elements, threads, own);
-        part.damping_factor = static_cast<Real>(inc.rayleigh_beta_s / soil_beta_s - 1.0);
+        part.damping_factor = static_cast<Real>(explicit_beta_s / soil_beta_s - 1.0);
         if (scratch_[0].empty()) {
           for (auto& s : scratch_) s.assign(mesh.nodeCount(), Real(0));
         }

@@ -92,14 +92,10 @@ void readInclusions(const ConfigNode& soil, SoilParams& p) {
       inc.material = readMaterial(m);
       inc.rayleigh_beta_s = m.number("rayleigh_beta_s", Range{0.0, 1.0, false, true}, -1.0);
       inc.implicit = n.choice("integration", {"explicit", "implicit"}, "explicit") == "implicit";
-      if (inc.implicit) {
-        // Its Rayleigh term would be explicit and set the step again (docs/soil.md, "Implicit inclusions").
-        if (inc.rayleigh_beta_s > 0.0) {
-          m.fail("rayleigh_beta_s", "an implicit inclusion is undamped: give 0 or leave it out");
-        }
-        inc.rayleigh_beta_s = 0.0;
-      }
-      if (inc.rayleigh_beta_s >= 0.0 && inc.rayleigh_beta_s != p.solver.rayleigh_beta_s &&
+      // An implicit inclusion's damping is integrated in its own solve (docs/soil.md, "Implicit
+      // inclusions"): its own coefficient, 0 (undamped) when left out, needs no soil filter.
+      if (inc.implicit && inc.rayleigh_beta_s < 0.0) inc.rayleigh_beta_s = 0.0;
+      if (!inc.implicit && inc.rayleigh_beta_s >= 0.0 && inc.rayleigh_beta_s != p.solver.rayleigh_beta_s &&
           !(p.solver.rayleigh_beta_s > 0.0)) {
         m.fail("rayleigh_beta_s",
                "an inclusion's own Rayleigh coefficient needs the soil's damping filter "
