@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "railvib/common/constants.hpp"
+
 namespace railvib::building {
 namespace {
 
@@ -103,7 +105,7 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
     p.max_time_step_s = b.section("solver").number("max_time_step_s", Range{0.0, 0.01, true, false}, p.max_time_step_s);
   }
   p.coupling = b.choice("coupling", {"one_way", "two_way"}, "one_way") == "two_way" ? SoilCoupling::TwoWay
-                                                                                   : SoilCoupling::OneWay;
+                                                                                    : SoilCoupling::OneWay;
   p.coupling_modes_max_hz = b.number("coupling_modes_max_hz", Range::nonNegative(), 0.0);
   if (b.has("footprint")) {
     const ConfigNode fp = b.section("footprint");
@@ -149,6 +151,11 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
     }
   }
   return p;
+}
+
+RayleighCoefficients rayleighCoefficients(const BuildingParams& p) {
+  const double w1 = kTwoPi * p.damping_f1_hz, w2 = kTwoPi * p.damping_f2_hz;
+  return {2.0 * p.damping_ratio * w1 * w2 / (w1 + w2), 2.0 * p.damping_ratio / (w1 + w2)};
 }
 
 }  // namespace railvib::building

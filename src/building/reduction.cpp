@@ -77,8 +77,8 @@ RigidBaseReduction reduceOnRigidBase(const BuildingModel& model, double fmax_hz,
   red.damping_ratio.resize(nm);
   red.participation.resize(nm, 6);
   const BuildingParams& p = model.params();
-  const double w1 = kTwoPi * p.damping_f1_hz, w2 = kTwoPi * p.damping_f2_hz;
-  const double alpha = 2.0 * p.damping_ratio * w1 * w2 / (w1 + w2), beta = 2.0 * p.damping_ratio / (w1 + w2);
+  const RayleighCoefficients rayleigh = rayleighCoefficients(p);
+  const double alpha = rayleigh.alpha_1_s, beta = rayleigh.beta_s;
   for (int i = 0; i < nm; ++i) {
     const Mode& mode = modes.modes[static_cast<size_t>(i)];
     const double w = kTwoPi * mode.frequency_hz;

@@ -113,9 +113,9 @@ BuildingResponseSolver::BuildingResponseSolver(const BuildingModel& model, doubl
   if (!(sample_period_s > 0.0)) throw std::invalid_argument("building response: sample period must be positive");
   const BuildingParams& par = model.params();
   substeps_ = std::max(1, static_cast<int>(std::ceil(sample_period_s / par.max_time_step_s - 1e-9)));
-  const double w1 = kTwoPi * par.damping_f1_hz, w2 = kTwoPi * par.damping_f2_hz;
-  alpha_ = 2.0 * par.damping_ratio * w1 * w2 / (w1 + w2);
-  beta_ = 2.0 * par.damping_ratio / (w1 + w2);
+  const RayleighCoefficients rayleigh = rayleighCoefficients(par);
+  alpha_ = rayleigh.alpha_1_s;
+  beta_ = rayleigh.beta_s;
 
   Impl& s = *impl_;
   const std::vector<int>& fi = model.freeIndex();

@@ -62,7 +62,9 @@ std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams
     s.name = "house_foundation_" + name;
     s.material = concrete;
     s.implicit = true;
-    s.rayleigh_beta_s = 0.0;
+    // The house's concrete damping: the stiffness-proportional part of its Rayleigh damping (the mass
+    // part would damp the box's rigid motion in the soil).
+    s.rayleigh_beta_s = building::rayleighCoefficients(bp).beta_s;
     s.x_min_m = m.x(static_cast<size_t>(a0)), s.x_max_m = m.x(static_cast<size_t>(a1));
     s.y_min_m = m.y(static_cast<size_t>(b0)), s.y_max_m = m.y(static_cast<size_t>(b1));
     s.top_m = m.z[static_cast<size_t>(c0)], s.bottom_m = m.z[static_cast<size_t>(c1)];

@@ -74,9 +74,9 @@ struct BuildingParams {
 
   double foundation_depth_m = 0.85;
   ShellMaterial foundation;
-  double foundation_wall_thickness_m = 0.25;  ///< [assumed]
-  double base_slab_thickness_m = 0.25;        ///< [assumed]
-  bool ground_slab_on_fill = true;            ///< [assumed] ground slab follows the foundation
+  double foundation_wall_thickness_m = 0.25;                  ///< [assumed]
+  double base_slab_thickness_m = 0.25;                        ///< [assumed]
+  bool ground_slab_on_fill = true;                            ///< [assumed] ground slab follows the foundation
   FoundationModel foundation_model = FoundationModel::Rigid;  ///< two_way only
 
   double element_size_m = 0.5;
@@ -103,5 +103,12 @@ struct BuildingParams {
 /// Load and validate `building` (and, if present, `site` for the placement).
 /// Throws ConfigError with the key path on any invalid or inconsistent value.
 BuildingParams loadBuildingParams(const ConfigNode& root);
+
+/// Rayleigh damping C = alpha M + beta K with damping_ratio at damping_f1_hz and damping_f2_hz
+/// (Chopra, Dynamics of Structures, 11.4): alpha 1/s, beta s.
+struct RayleighCoefficients {
+  double alpha_1_s = 0.0, beta_s = 0.0;
+};
+RayleighCoefficients rayleighCoefficients(const BuildingParams& params);
 
 }  // namespace railvib::building
