@@ -53,7 +53,32 @@ StructuredMesh quarterBox(const FootingModelSpec& spec, double box_m) {
   }
   std::vector<double> z(n + 1);
   for (size_t k = 0; k <= n; ++k) z[k] = spec.h_m * static_cast<double>(k);
-  return buildUniformMesh(n, n, spec.h_m, spec.h_m, z, std::vector<Material>(n, spec.material));
+  StructuredMesh mesh = buildUniformMesh(n, n, spec.h_m, spec.h_m, z, std::vector<Material>(n, spec.material));
+  auto onPlanes = [&](double v) { return std::abs(v / spec.h_m - std::round(v / spec.h_m)) < 1e-9; };
+  if (!onPlanes(spec.embedment_m) || spec.embedment_m < 0.0 || spec.embedment_m > box_m - 2.0 * spec.h_m) {
+    throw std::invalid_argument("ssi verification: the embedment must be a multiple of h inside the box");
+  }
+  if (!spec.meshed) return mesh;
+  const double b = spec.half_width_m, d = spec.embedment_m, t = spec.wall_m > 0.0 ? spec.wall_m : spec.h_m;
+  if (!onPlanes(t) || d < 2.0 * t + spec.h_m || b < t + spec.h_m) {
+    throw std::invalid_argument(
+        "ssi verification: a meshed foundation needs walls a multiple of h and a cavity of one element at least");
+  }
+  // The quarter of the box (symmetry planes x = 0 and y = 0): top and base slabs, the two outer walls.
+  auto box = [&](const char* name, double x0, double x1, double y0, double y1, double z0, double z1) {
+    InclusionSpec s;
+    s.name = name;
+    s.material = spec.concrete;
+    s.implicit = true;
+    s.rayleigh_beta_s = spec.concrete_beta_s;
+    s.x_min_m = x0, s.x_max_m = x1, s.y_min_m = y0, s.y_max_m = y1, s.top_m = z0, s.bottom_m = z1;
+    return s;
+  };
+  addInclusions(mesh,
+                {box("top_slab", 0.0, b, 0.0, b, 0.0, t), box("base_slab", 0.0, b, 0.0, b, d - t, d),
+                 box("wall_x", b - t, b, 0.0, b, t, d - t), box("wall_y", 0.0, b - t, b - t, b, t, d - t)},
+                1e-6 * spec.h_m);
+  return mesh;
 }
 
 // The footing [0, B]^2 at the surface, reference point at the centre of the full footing; only the DOF of
@@ -63,7 +88,8 @@ RigidBodySpec footingBody(const FootingModelSpec& spec, FootingMode mode) {
   body.name = "footing";
   body.x_min_m = body.y_min_m = 0.0;
   body.x_max_m = body.y_max_m = spec.half_width_m;
-  body.depth_m = 0.0;
+  // Rigid: the soil nodes down to the embedment; meshed: the concrete's top face.
+  body.depth_m = spec.meshed ? 0.0 : spec.embedment_m;
   body.snap_tolerance_m = 1e-6 * spec.h_m;
   body.held.fill(true);
   body.held[mode == FootingMode::Vertical ? 2 : 3] = false;
@@ -122,6 +148,13 @@ double gazetasVerticalStiffness(const Material& m, double l_m, double b_m) {
   return 2.0 * m.shearModulus() * l_m / (1.0 - m.poisson_ratio) * (0.73 + 1.54 * std::pow(chi, 0.75));
 }
 
+double gazetasEmbeddedVerticalStiffness(const Material& m, double l_m, double b_m, double d_m) {
+  const double chi = (4.0 * l_m * b_m) / (4.0 * l_m * l_m);
+  const double wall_area = 2.0 * (2.0 * l_m + 2.0 * b_m) * d_m, base_area = 4.0 * l_m * b_m;
+  return gazetasVerticalStiffness(m, l_m, b_m) * (1.0 + d_m / (21.0 * b_m) * (1.0 + 1.3 * chi)) *
+         (1.0 + 0.2 * std::pow(wall_area / base_area, 2.0 / 3.0));
+}
+
 double gazetasRockingStiffnessX(const Material& m, double l_m, double b_m) {
   const double i_bx = (2.0 * l_m) * std::pow(2.0 * b_m, 3) / 12.0;
   return m.shearModulus() / (1.0 - m.poisson_ratio) * std::pow(i_bx, 0.75) * std::pow(l_m / b_m, 0.25) *
@@ -135,6 +168,10 @@ double gazetasRockingStiffnessY(const Material& m, double l_m, double b_m) {
 
 double paisKauselVerticalStiffness(const Material& m, double l_m, double b_m) {
   return m.shearModulus() * b_m / (1.0 - m.poisson_ratio) * (3.1 * std::pow(l_m / b_m, 0.75) + 1.6);
+}
+
+double paisKauselEmbeddedVerticalStiffness(const Material& m, double l_m, double b_m, double d_m) {
+  return paisKauselVerticalStiffness(m, l_m, b_m) * (1.0 + (0.25 + 0.25 * b_m / l_m) * std::pow(d_m / b_m, 0.8));
 }
 
 double paisKauselRockingStiffnessX(const Material& m, double l_m, double b_m) {
@@ -209,6 +246,7 @@ StaticStiffnessRun runFootingStaticBox(const FootingModelSpec& spec, FootingMode
     const RigidBodyState& st = s.rigidBody(0);
     const double q = st.displacement[dof];
     run.residual = std::abs(st.soil_force[dof]) / generalised_load;
+    std::fprintf(stderr, "DR step %lu q %.6e residual %.3e\n", (unsigned long)run.steps, q, run.residual);
     if (std::abs(q - q_last) < tolerance * std::abs(q) && run.residual < 10.0 * tolerance) break;
     q_last = q;
   }

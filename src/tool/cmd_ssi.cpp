@@ -45,6 +45,16 @@ FootingModelSpec footingSpec(const ArgParser& p, double h_m) {
   f.h_m = h_m;
   f.precision = p.get("precision") == "float" ? Precision::Float : Precision::Double;
   f.threads = static_cast<int>(p.getInt("threads", 0, 1024));
+  if (p.has("embedment")) {
+    f.embedment_m = p.getDouble("embedment", 0.0, 100.0);
+    const std::string foundation = p.get("foundation");
+    if (foundation != "rigid" && foundation != "meshed") {
+      throw ArgError("ssi-bench: --foundation must be rigid or meshed");
+    }
+    f.meshed = foundation == "meshed";
+    f.wall_m = p.getDouble("wall", 0.0, 100.0);
+    if (f.meshed && !(f.embedment_m > 0.0)) throw ArgError("ssi-bench: --foundation meshed needs --embedment > 0");
+  }
   return f;
 }
 
@@ -113,10 +123,21 @@ json footingStatic(const ArgParser& p) {
     jm["fe_normalised"] = fe / unit;
     const Material& m = coarse.material;
     const double b = coarse.half_width_m;
-    const double gazetas = vertical ? gazetasVerticalStiffness(m, b, b) : gazetasRockingStiffnessX(m, b, b);
-    const double pais = vertical ? paisKauselVerticalStiffness(m, b, b) : paisKauselRockingStiffnessX(m, b, b);
+    const double d = coarse.embedment_m;
+    if (d > 0.0 && !vertical) throw ArgError("ssi-bench: an embedded footing is checked in the vertical mode only");
+    const double gazetas = !vertical ? gazetasRockingStiffnessX(m, b, b)
+                           : d > 0.0 ? gazetasEmbeddedVerticalStiffness(m, b, b, d)
+                                     : gazetasVerticalStiffness(m, b, b);
+    const double pais = !vertical ? paisKauselRockingStiffnessX(m, b, b)
+                        : d > 0.0 ? paisKauselEmbeddedVerticalStiffness(m, b, b, d)
+                                  : paisKauselVerticalStiffness(m, b, b);
     jm["unit"] = vertical ? "G B / (1 - nu)" : "G B^3 / (1 - nu)";
     jm["gazetas_1991_normalised"] = gazetas / unit;
+    if (d > 0.0) {
+      jm["embedment_m"] = d;
+      jm["foundation"] = coarse.meshed ? "meshed concrete box" : "rigid";
+      jm["gazetas_1991_surface_normalised"] = gazetasVerticalStiffness(m, b, b) / unit;
+    }
     jm["pais_kausel_1988_normalised"] = pais / unit;
     jm["error_vs_gazetas"] = fe / gazetas - 1.0;
     jm["error_vs_pais_kausel"] = fe / pais - 1.0;
@@ -409,6 +430,15 @@ int ssiBench(const std::vector<std::string>& args) {
            "dynamic cases use the last",
            "4,6,8");
   p.option("mode", "footing-static: vertical | rocking | both", "both");
+  p.option("embedment", "footing-static: embedment depth D (m, a multiple of every h; vertical mode only)", "0");
+  p.option("foundation",
+           "footing-static with --embedment: rigid (the soil nodes down to D carried) | meshed (a closed concrete box "
+           "of implicit inclusions, E 20 GPa, rho 2400, nu 0.2, its top face carried)",
+           "rigid");
+  p.option("wall",
+           "footing-static, meshed: thickness of the box's slabs and walls (m, a multiple of every h; "
+           "0 = one element)",
+           "0");
   p.option("tolerance", "footing-static: relative change of the displacement that ends the relaxation", "1e-6");
   p.option("nu", "Poisson ratio of the half-space (Vs = 100 m/s, rho = 2000 kg/m3)", "0.3333333333333333");
   p.option("a0", "footing-impedance: dimensionless frequencies w B / Vs, comma-separated (default 0.25..2.5)", "");

@@ -144,6 +144,38 @@ TEST(SoilSsi, RockingStaticStiffnessWithinTenPercentOfPaisKausel) {
   EXPECT_NEAR(k / pk, 1.0, 0.10);
 }
 
+// The footing embedded D = 0.75 B, rigid and as a closed concrete box of implicit inclusions (0.25 m walls and
+// slabs, E 20 GPa against the soil's 53 MPa shear modulus, the house's concrete damping) carried at its top face:
+// the concrete box is as stiff as the rigid one (within 2 %), and both lie within 10 % of Gazetas' (1991)
+// embedded-footing formula, extrapolated as the rocking case above (box sweep 4, 6, 8 m; h 0.25 and 0.125 m).
+TEST(SoilSsi, EmbeddedConcreteBoxIsRigidAndWithinTenPercentOfGazetas) {
+  double stiffness[2] = {0.0, 0.0};
+  for (int meshed = 0; meshed < 2; ++meshed) {
+    FootingModelSpec coarse = coarseFooting();
+    coarse.embedment_m = 0.75;
+    coarse.meshed = meshed == 1;
+    coarse.wall_m = 0.25;
+    FootingModelSpec fine = coarse;
+    fine.h_m = 0.125;
+    const StaticStiffnessResult boxes = runFootingStatic(coarse, FootingMode::Vertical, {4.0, 6.0, 8.0});
+    const StaticStiffnessRun fine_run = runFootingStaticBox(fine, FootingMode::Vertical, 4.0);
+    stiffness[meshed] = extrapolateToZeroSize(coarse.h_m, boxes.runs[0].stiffness, fine.h_m, fine_run.stiffness) *
+                        boxes.extrapolated / boxes.runs[0].stiffness;
+    const double gazetas = gazetasEmbeddedVerticalStiffness(coarse.material, 1.0, 1.0, 0.75);
+    const double pk = paisKauselEmbeddedVerticalStiffness(coarse.material, 1.0, 1.0, 0.75);
+    std::printf(
+        "embedded %s, D / B 0.75: K_z / (G B / (1 - nu)) FE %.3f, Gazetas %.3f (%+.1f %%), Pais & Kausel %.3f "
+        "(%+.1f %%)\n",
+        meshed ? "concrete box" : "rigid", stiffness[meshed] / boxes.unit, gazetas / boxes.unit,
+        100.0 * (stiffness[meshed] / gazetas - 1.0), pk / boxes.unit, 100.0 * (stiffness[meshed] / pk - 1.0));
+    EXPECT_NEAR(stiffness[meshed] / gazetas, 1.0, 0.10);
+    // Embedment stiffens: above the surface footing's Gazetas value by more than half his embedment factor.
+    const double surface = gazetasVerticalStiffness(coarse.material, 1.0, 1.0);
+    EXPECT_GT(stiffness[meshed], surface * (1.0 + 0.5 * (gazetas / surface - 1.0)));
+  }
+  EXPECT_NEAR(stiffness[1] / stiffness[0], 1.0, 0.02);
+}
+
 // Vertical impedance of the massless square footing: Hann-windowed sine wavelet, dashpot box (6 B), K = F / U;
 // static stiffness from the low-frequency limit. Both meshes extrapolated to h = 0 (linear).
 TEST(SoilSsi, VerticalImpedanceWithinFifteenPercentOfGazetas) {
