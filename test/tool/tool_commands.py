@@ -311,6 +311,20 @@ class Cases:
         check(len(meshes) == 2 and meshes[1] < meshes[0], meshes)
         check(0 < v["fe_normalised"] < boxes[-1], v["fe_normalised"])
         check(abs(v["gazetas_1991_normalised"] - 4.54) < 1e-9 and abs(v["pais_kausel_1988_normalised"] - 4.7) < 1e-9, v)
+        # Embedded 0.75 B: the concrete box of implicit inclusions is as stiff as the rigid footing in each box (2 %), both
+        # stiffer than the surface footing; a meshed box without embedment is refused.
+        emb = {}
+        for f in ("rigid", "meshed"):
+            emb[f] = self.run("ssi-bench", "footing-static", "--mode", "vertical", "--h", "0.25,0.125", "--boxes", "2,3,4",
+                              "--tolerance", 1e-4, "--threads", 1, "--embedment", 0.75, "--foundation", f,
+                              "--wall", 0.25)["vertical"]
+            check(emb[f]["embedment_m"] == 0.75 and emb[f]["fe_normalised"] > emb[f]["gazetas_1991_surface_normalised"],
+                  emb[f])
+        pairs = zip(emb["meshed"]["box_sweep"]["runs"], emb["rigid"]["box_sweep"]["runs"])
+        check(all(abs(m["normalised"] / r["normalised"] - 1) < 0.02 for m, r in pairs), emb)
+        out = subprocess.run([self.tool, "ssi-bench", "footing-static", "--foundation", "meshed"], capture_output=True,
+                             text=True)
+        check(out.returncode != 0 and "--embedment" in out.stderr, out.stderr)
         # The stiff-soil case on a small box and a short run (no accuracy: test_stiff_soil holds the 2 %): every
         # response point has its three components, the house carries soil, the figures are finite.
         s = self.run("ssi-bench", "stiff-soil", "--vs", 2500, "--margin", 6, "--depth", 8, "--duration", 0.1,
