@@ -45,7 +45,9 @@ std::vector<std::string> soilSensorsOnTheFoundation(const ConfigNode& root,
            << ") m stands on the house's foundation (plan x " << plan.origin_x_m << ".."
            << plan.origin_x_m + plan.length_m << " m, y " << plan.origin_y_m << ".." << plan.origin_y_m + plan.width_m
            << " m): with building.coupling two_way the foundation is part of the soil, so it records the "
-              "foundation's rigid motion, not the free field (that is the run with coupling one_way)";
+           << (house.foundation_model == building::FoundationModel::Meshed ? "meshed foundation's motion"
+                                                                           : "foundation's rigid motion")
+           << ", not the free field (that is the run with coupling one_way)";
       out.push_back(note.str());
     }
   }

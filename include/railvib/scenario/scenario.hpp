@@ -21,7 +21,7 @@ nlohmann::json validateScenario(const Config& config);
 
 /// The soil's virtual sensors that stand on the house's foundation, one sentence each: with
 /// building.coupling two_way the foundation is part of the soil model, so a sensor inside the house's
-/// plan records the foundation's rigid motion, not the ground's (the free field there is the one_way
+/// plan records the foundation's motion (rigid, or the meshed box's), not the ground's (the free field there is the one_way
 /// run, whose soil does not see the house). Empty without a house or with one_way. `receivers`: the
 /// soil's receivers (soil::SoilParams::receivers), where the sensors' points are.
 std::vector<std::string> soilSensorsOnTheFoundation(const ConfigNode& root,

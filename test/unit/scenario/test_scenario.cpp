@@ -145,6 +145,11 @@ TEST(Scenario, GroundSensorsOnTheTwoWayFoundationAreNamed) {
   const std::string note = two_way[0].get<std::string>();
   EXPECT_EQ(note.rfind("sensor ground_8m at (0, 8) m stands on the house's foundation", 0), 0u) << note;
   EXPECT_NE(note.find("coupling one_way"), std::string::npos) << note;
+  EXPECT_NE(note.find("foundation's rigid motion"), std::string::npos) << note;
+  // A meshed foundation's ground slab bends: the note does not call its motion rigid.
+  const nlohmann::json meshed = notes({"building.foundation.model=meshed"});
+  ASSERT_EQ(meshed.size(), 1u) << meshed.dump();
+  EXPECT_NE(meshed[0].get<std::string>().find("meshed foundation's motion"), std::string::npos) << meshed.dump();
   EXPECT_TRUE(notes({"building.coupling=one_way"}).empty());
   const std::string sensors = "site.ground_sensors=[{name: ground_2m, x_m: 0.0, y_m: 2.0}, {name: ground_8m, x_m: ";
   EXPECT_EQ(notes({sensors + "5.0, y_m: 11.7175}]"}).size(), 1u);  // the plan's corner
