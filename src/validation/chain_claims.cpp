@@ -249,7 +249,9 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
       c.ours = "with / without the house PPV_z " + fixed(r, 2) + " (" + fixed(1e3 * ppv(*with_house), 2) + " / " +
                fixed(1e3 * ppv(*ff), 2) + " mm/s), rms " + fixed(rms(*with_house) / rms(*ff), 2);
       c.verdict = verdictOf(r <= 0.95);
-      c.cause = "the house's foundation does not lower the soil's motion at its response point";
+      if (c.verdict != Verdict::Agrees) {
+        c.cause = "the house's foundation does not lower the soil's motion at its response point";
+      }
     }
     out.push_back(c);
   }
@@ -269,7 +271,15 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
                " / " + fixed(1e3 * ppv(*hg), 2) + " mm/s)";
       c.verdict = verdictOf(r >= 0.5 && r <= 2.0);
     }
-    if (two_way) {
+    const bool meshed = cfg.root().has("building") &&
+                        building::loadBuildingParams(cfg.root()).foundation_model == building::FoundationModel::Meshed;
+    if (two_way && meshed) {
+      // Measured on the 10 s runs with the box meshed in concrete (docs/validation.md, C6): 1.91.
+      c.expected = Verdict::Agrees;
+      if (c.verdict != Verdict::Agrees) {
+        c.cause = "the first floor amplifies the motion of the ring it stands on (the walls' tops) more than 2 x";
+      }
+    } else if (two_way) {
       // Measured on the 10 s default runs (docs/validation.md, C6): 2.13 two-way, 1.42 one-way.
       c.expected = Verdict::Differs;
       c.cause =
