@@ -8,6 +8,8 @@
 
 #include "railvib/common/config.hpp"
 #include "railvib/soil/mesh.hpp"
+#include "railvib/soil/rigid_body.hpp"
+#include "railvib/soil/solver.hpp"
 
 namespace railvib::soil::testing {
 
@@ -75,5 +77,51 @@ inline double maxAbsDiff(const std::vector<double>& a, const std::vector<double>
   for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) d = std::max(d, std::abs(a[i] - b[i]));
   return d;
 }
+
+// A two-storey superstructure on a rigid body (soil frame, reference on the ground): its mass above the
+// reference point couples sway to rocking; two fixed-interface modes at 12 and 27 Hz.
+inline ReducedStructure twoModeStructure(double damping_ratio) {
+  ReducedStructure st;
+  st.rigid_mass.diagonal() << 3000.0, 3000.0, 3000.0, 6000.0, 6000.0, 5000.0;
+  st.rigid_mass(0, 4) = st.rigid_mass(4, 0) = -4000.0;
+  st.rigid_mass(1, 3) = st.rigid_mass(3, 1) = 4000.0;
+  st.participation.resize(2, 6);
+  st.participation << 30.0, 0.0, 5.0, 0.0, 20.0, 0.0,  //
+      0.0, 0.0, 40.0, 8.0, 0.0, 0.0;
+  st.circular_frequency_rad_s.resize(2);
+  st.circular_frequency_rad_s << 2.0 * M_PI * 12.0, 2.0 * M_PI * 27.0;
+  st.damping_ratio = Eigen::VectorXd::Constant(2, damping_ratio);
+  return st;
+}
+
+// The leapfrog's potential energy, 1/2 u_n K u_{n+1} of the soil plus 1/2 w^2 eta_n eta_{n+1} of the
+// modes of rigid body 0 (`modal_circular_frequency_rad_s`: its structure's): call after every step.
+class LeapfrogPotential {
+ public:
+  LeapfrogPotential(const Solver& s, const Eigen::VectorXd& modal_circular_frequency_rad_s)
+      : w2_(modal_circular_frequency_rad_s.cwiseAbs2()), eta_prev_(Eigen::VectorXd::Zero(w2_.size())) {
+    remember(s);
+  }
+  double afterStep(const Solver& s) {
+    s.internalForce(f_);  // -K u_{n+1}
+    double e = 0.0;
+    for (size_t q = 0; q < f_.size(); ++q) e -= 0.5 * u_prev_[q] * f_[q];
+    const RigidBodyState& b = s.rigidBody(0);
+    for (long i = 0; i < w2_.size(); ++i) e += 0.5 * w2_[i] * eta_prev_[i] * b.modal_displacement[i];
+    remember(s);
+    eta_prev_ = b.modal_displacement;
+    return e;
+  }
+
+ private:
+  void remember(const Solver& s) {
+    const size_t n = s.mesh().nodeCount();
+    u_prev_.resize(3 * n);
+    for (size_t nd = 0; nd < n; ++nd)
+      for (int c = 0; c < 3; ++c) u_prev_[3 * nd + c] = s.displacement(nd, c);
+  }
+  Eigen::VectorXd w2_, eta_prev_;
+  std::vector<double> u_prev_, f_;
+};
 
 }  // namespace railvib::soil::testing

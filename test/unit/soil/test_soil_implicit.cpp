@@ -138,16 +138,7 @@ RigidBodySpec bodyOnBlock(double damping_ratio) {
   spec.x_min_m = 2.0, spec.x_max_m = 4.0, spec.y_min_m = 2.0, spec.y_max_m = 4.0, spec.depth_m = 0.0;
   spec.ring_width_m = 0.5;
   spec.reference_m = {3.0, 3.0, 0.0};
-  ReducedStructure& st = spec.structure;
-  st.rigid_mass.diagonal() << 3000.0, 3000.0, 3000.0, 6000.0, 6000.0, 5000.0;
-  st.rigid_mass(0, 4) = st.rigid_mass(4, 0) = -4000.0;
-  st.rigid_mass(1, 3) = st.rigid_mass(3, 1) = 4000.0;
-  st.participation.resize(2, 6);
-  st.participation << 30.0, 0.0, 5.0, 0.0, 20.0, 0.0,  //
-      0.0, 0.0, 40.0, 8.0, 0.0, 0.0;
-  st.circular_frequency_rad_s.resize(2);
-  st.circular_frequency_rad_s << 2.0 * M_PI * 12.0, 2.0 * M_PI * 27.0;
-  st.damping_ratio = Eigen::VectorXd::Constant(2, damping_ratio);
+  spec.structure = railvib::soil::testing::twoModeStructure(damping_ratio);
   return spec;
 }
 
@@ -194,30 +185,21 @@ std::vector<double> energyHistory(double damping_ratio, int steps, size_t* carri
     }
   }
   const ReducedStructure& st = spec.structure;
-  const Eigen::VectorXd w2 = st.circular_frequency_rad_s.cwiseAbs2();
   const size_t n = m.nodeCount();
-  std::vector<double> u_prev(3 * n), v(3 * n), f;
-  Eigen::VectorXd eta_prev = Eigen::VectorXd::Zero(2);
-  for (size_t nd = 0; nd < n; ++nd)
-    for (int c = 0; c < 3; ++c) u_prev[3 * nd + c] = s.displacement(nd, c);
+  std::vector<double> v(3 * n);
+  railvib::soil::testing::LeapfrogPotential potential(s, st.circular_frequency_rad_s);
   std::vector<double> history;
   const double dt = s.dt();
   for (int step = 0; step < steps; ++step) {
     s.step();
-    s.internalForce(f);  // -K u_{n+1}
-    double strain = 0.0;
-    for (size_t q = 0; q < f.size(); ++q) strain -= 0.5 * u_prev[q] * f[q];
+    const double strain = potential.afterStep(s);
     const RigidBodyState& b = s.rigidBody(0);
-    for (int i = 0; i < 2; ++i) strain += 0.5 * w2[i] * eta_prev[i] * b.modal_displacement[i];
     for (size_t nd = 0; nd < n; ++nd)
       for (int c = 0; c < 3; ++c) v[3 * nd + c] = s.velocity(nd, c);
     const Eigen::Matrix<double, 6, 6> mb = st.rigid_mass;
     const double body = 0.5 * b.velocity.dot(mb * b.velocity) + b.modal_velocity.dot(st.participation * b.velocity) +
                         0.5 * b.modal_velocity.squaredNorm();
     history.push_back(s.kineticEnergy() + body + strain + dt * dt / 8.0 * blockEnergyTerm(s, v));
-    for (size_t nd = 0; nd < n; ++nd)
-      for (int c = 0; c < 3; ++c) u_prev[3 * nd + c] = s.displacement(nd, c);
-    eta_prev = b.modal_displacement;
   }
   return history;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "railvib/soil/solver.hpp"
+#include "soil_test_util.hpp"
 
 using namespace railvib::soil;
 
@@ -34,16 +35,7 @@ RigidBodySpec foundation(double damping_ratio) {
   spec.depth_m = 1.0;
   spec.reference_m = {2.0, 2.5, 0.0};
   spec.added_mass.diagonal() << 800.0, 800.0, 800.0, 400.0, 400.0, 500.0;
-  ReducedStructure& st = spec.structure;
-  st.rigid_mass.diagonal() << 3000.0, 3000.0, 3000.0, 6000.0, 6000.0, 5000.0;
-  st.rigid_mass(0, 4) = st.rigid_mass(4, 0) = -4000.0;  // mass above the reference point: sway couples to rocking
-  st.rigid_mass(1, 3) = st.rigid_mass(3, 1) = 4000.0;
-  st.participation.resize(2, 6);
-  st.participation << 30.0, 0.0, 5.0, 0.0, 20.0, 0.0,  //
-      0.0, 0.0, 40.0, 8.0, 0.0, 0.0;
-  st.circular_frequency_rad_s.resize(2);
-  st.circular_frequency_rad_s << 2.0 * M_PI * 12.0, 2.0 * M_PI * 27.0;
-  st.damping_ratio = Eigen::VectorXd::Constant(2, damping_ratio);
+  spec.structure = railvib::soil::testing::twoModeStructure(damping_ratio);
   return spec;
 }
 
@@ -74,23 +66,12 @@ std::vector<double> energyHistory(double damping_ratio, int steps) {
       }
     }
   }
-  const Eigen::VectorXd w2 = spec.structure.circular_frequency_rad_s.cwiseAbs2();
-  std::vector<double> u_prev(3 * m.nodeCount()), f;
-  Eigen::VectorXd eta_prev = Eigen::VectorXd::Zero(2);
-  for (size_t n = 0; n < m.nodeCount(); ++n)
-    for (int c = 0; c < 3; ++c) u_prev[3 * n + c] = s.displacement(n, c);
+  railvib::soil::testing::LeapfrogPotential potential(s, spec.structure.circular_frequency_rad_s);
   std::vector<double> history;
   for (int step = 0; step < steps; ++step) {
     s.step();
-    s.internalForce(f);  // -K u_{n+1}
-    double strain = 0.0;
-    for (size_t q = 0; q < f.size(); ++q) strain -= 0.5 * u_prev[q] * f[q];
-    const RigidBodyState& b = s.rigidBody(0);
-    for (int i = 0; i < 2; ++i) strain += 0.5 * w2[i] * eta_prev[i] * b.modal_displacement[i];
-    history.push_back(s.kineticEnergy() + bodyKinetic(spec, b) + strain);
-    for (size_t n = 0; n < m.nodeCount(); ++n)
-      for (int c = 0; c < 3; ++c) u_prev[3 * n + c] = s.displacement(n, c);
-    eta_prev = b.modal_displacement;
+    const double strain = potential.afterStep(s);
+    history.push_back(s.kineticEnergy() + bodyKinetic(spec, s.rigidBody(0)) + strain);
   }
   return history;
 }
