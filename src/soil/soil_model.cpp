@@ -151,6 +151,18 @@ nlohmann::json inclusionsSummary(const StructuredMesh& m) {
   return out;
 }
 
+namespace {
+// The implicit inclusions' solve (docs/soil.md, "Implicit inclusions"), null without one.
+nlohmann::json implicitSolveSummary(const Solver& s) {
+  const Solver::ImplicitSolveInfo info = s.implicitSolve();
+  if (info.unknowns == 0) return nullptr;
+  return {{"unknowns", info.unknowns},
+          {"factor_nonzeros", info.factor_nonzeros},
+          {"parts", {info.part_0, info.part_1}},
+          {"separator", info.separator}};
+}
+}  // namespace
+
 nlohmann::json SoilModel::summary() const {
   const Solver& s = *solver_;
   const StructuredMesh& m = s.mesh();
@@ -196,7 +208,8 @@ nlohmann::json SoilModel::summary() const {
           {"ranks", s.partition().ranks},
           {"partition", describePartition(s.partition())},
           {"local_elements", s.localMesh().elementCount()},
-          {"rigid_bodies", bodiesSummary(s)}};
+          {"rigid_bodies", bodiesSummary(s)},
+          {"implicit_solve", implicitSolveSummary(s)}};
 }
 
 std::string SoilModel::droppedLoadsNote() const {

@@ -45,6 +45,7 @@ struct Solver::Impl {
   virtual const RigidBodyState& rigidBody(size_t i) const = 0;
   virtual size_t rigidBodyCount() const = 0;
   virtual double unitEnergy() const = 0;
+  virtual Solver::ImplicitSolveInfo implicitSolve() const = 0;
   virtual void step(const std::vector<ForceChannel>& ch, const std::vector<double>& values) = 0;
   virtual double get(int what, size_t node, int c) const = 0;  // 0 u, 1 v
   virtual void set(int what, size_t node, int c, double value) = 0;
@@ -202,6 +203,17 @@ struct ImplT : Solver::Impl {
   }
   const RigidBodyState& rigidBody(size_t i) const override { return bodies.at(i)->state(); }
   size_t rigidBodyCount() const override { return bodies.size(); }
+  Solver::ImplicitSolveInfo implicitSolve() const override {
+    Solver::ImplicitSolveInfo info;
+    if (!implicit_unit || !implicit_unit->core().ready()) return info;
+    const ImplicitCore& core = implicit_unit->core();
+    info.unknowns = core.unknowns();
+    info.factor_nonzeros = core.factor().factorNonZeros();
+    info.part_0 = core.factor().partSize(0);
+    info.part_1 = core.factor().partSize(1);
+    info.separator = core.factor().partSize(2);
+    return info;
+  }
   double unitEnergy() const override {
     double e = 0.0;
     for (const auto& unit : units) e += unit->energy(ctx);
@@ -621,6 +633,7 @@ size_t Solver::attachRigidBody(const RigidBodySpec& spec) {
 size_t Solver::rigidBodyCount() const { return impl_->rigidBodyCount(); }
 const RigidBodyState& Solver::rigidBody(size_t index) const { return impl_->rigidBody(index); }
 double Solver::unitEnergy() const { return impl_->unitEnergy(); }
+Solver::ImplicitSolveInfo Solver::implicitSolve() const { return impl_->implicitSolve(); }
 
 void Solver::run(uint64_t n) {
   for (uint64_t s = 0; s < n; ++s) step();

@@ -1002,6 +1002,8 @@ int soilRun(const std::vector<std::string>& args) {
   summary["load_rate_hz"] = rate;
   summary["outputs"] = {dir + "/receivers.csv", dir + "/surface_vz.snap", dir + "/summary.json"};
   if (!sections.empty()) summary["outputs"].push_back(dir + "/section_vz.snap");
+  // The implicit inclusions' system is factorised at the first step: its figures exist only now.
+  summary["implicit_solve"] = model.summary()["implicit_solve"];
   for (size_t i = 0; i < model.solver().rigidBodyCount(); ++i) {
     const RigidBodyState& b = model.solver().rigidBody(i);
     summary["rigid_bodies"][i]["final_displacement"] =

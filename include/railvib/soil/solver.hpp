@@ -135,6 +135,13 @@ class Solver {
   const RigidBodyState& rigidBody(size_t index) const;
   /// Energy the units hold outside the nodal fields (a superstructure's own DOFs), J.
   double unitEnergy() const;
+  /// The implicit inclusions' solve once factorised (at the first step; all 0 before, or without implicit
+  /// inclusions): its unknowns, the entries of its factor, the sizes of its two parts and separator.
+  struct ImplicitSolveInfo {
+    size_t unknowns = 0;
+    long factor_nonzeros = 0, part_0 = 0, part_1 = 0, separator = 0;
+  };
+  ImplicitSolveInfo implicitSolve() const;
 
   /// Register a load channel (global nodes; a rank keeps the nodes it owns); returns its index.
   size_t addForceChannel(ForceChannel channel);
