@@ -216,14 +216,12 @@ void ImplicitCore::initialise(const std::vector<double>& values) {
 void ImplicitCore::advance(const std::vector<double>& force, std::vector<double>& out) {
   const size_t n = nodes_.size();
   rhs_.setZero();
-  std::vector<Eigen::Matrix<double, 6, 1>> generalised(bodies_.size(), Eigen::Matrix<double, 6, 1>::Zero());
+  generalised_.assign(bodies_.size(), Eigen::Matrix<double, 6, 1>::Zero());
   for (size_t p = 0; p < n; ++p) {
     const Eigen::Vector3d f(force[3 * p], force[3 * p + 1], force[3 * p + 2]);
     if (carried_[p].body >= 0) {
-      const RigidBodyCore& body = *bodies_[static_cast<size_t>(carried_[p].body)];
-      Eigen::Matrix<double, 6, 1>& g = generalised[static_cast<size_t>(carried_[p].body)];
-      g.head<3>() += f;
-      g.tail<3>() += body.offsets()[carried_[p].index].cross(f);
+      const size_t b = static_cast<size_t>(carried_[p].body);
+      bodies_[b]->addNodeForce(carried_[p].index, f, generalised_[b]);
       continue;
     }
     for (size_t c = 0; c < 3; ++c) {
@@ -232,13 +230,10 @@ void ImplicitCore::advance(const std::vector<double>& force, std::vector<double>
   }
   for (size_t b = 0; b < bodies_.size(); ++b) {
     RigidBodyCore& body = *bodies_[b];
-    body.setForce(generalised[b]);
+    body.setForce(generalised_[b]);
+    const Eigen::VectorXd& step_force = body.stepForce();
     const std::vector<int>& active = body.activeDofs();
-    for (size_t r = 0; r < active.size(); ++r) {
-      const int d = active[r];
-      rhs_[body_offset_[b] + static_cast<int>(r)] =
-          d < 6 ? generalised[b][d] : -body.stiffnessDiagonal()[d] * body.fullDisplacement()[d];
-    }
+    for (size_t r = 0; r < active.size(); ++r) rhs_[body_offset_[b] + static_cast<int>(r)] = step_force[active[r]];
   }
   // A v+ = (A - C) v- + f with C = C_nodal + beta K_I: the increment solves A (v+ - v-) = f - C v-.
   rhs_ -= damping_.cwiseProduct(z_);
@@ -262,21 +257,18 @@ void ImplicitCore::advance(const std::vector<double>& force, std::vector<double>
   }
   for (size_t b = 0; b < bodies_.size(); ++b) {
     RigidBodyCore& body = *bodies_[b];
-    Eigen::VectorXd v = Eigen::VectorXd::Zero(body.fullVelocity().size());
+    body_velocity_.setZero(body.fullVelocity().size());
     const std::vector<int>& active = body.activeDofs();
-    for (size_t r = 0; r < active.size(); ++r) v[active[r]] = z_[body_offset_[b] + static_cast<int>(r)];
-    body.commitVelocity(v);
+    for (size_t r = 0; r < active.size(); ++r) body_velocity_[active[r]] = z_[body_offset_[b] + static_cast<int>(r)];
+    body.commitVelocity(body_velocity_);
   }
   for (size_t p = 0; p < n; ++p) {
     if (carried_[p].body < 0) continue;
-    const RigidBodyCore& body = *bodies_[static_cast<size_t>(carried_[p].body)];
-    const size_t a = carried_[p].index;
-    const Eigen::Vector3d u = body.nodeValue(body.displacement(), a), v = body.nodeValue(body.velocity(), a),
-                          vf = body.nodeValue(body.filteredVelocity(), a);
-    for (int c = 0; c < 3; ++c) {
-      out[9 * p + static_cast<size_t>(c)] = u[c];
-      out[9 * p + 3 + static_cast<size_t>(c)] = v[c];
-      out[9 * p + 6 + static_cast<size_t>(c)] = u[c] + body.beta() * vf[c];
+    const RigidBodyCore::NodeFields q = bodies_[static_cast<size_t>(carried_[p].body)]->nodeFields(carried_[p].index);
+    for (size_t c = 0; c < 3; ++c) {
+      out[9 * p + c] = q.u[static_cast<long>(c)];
+      out[9 * p + 3 + c] = q.v[static_cast<long>(c)];
+      out[9 * p + 6 + c] = q.w[static_cast<long>(c)];
     }
   }
 }

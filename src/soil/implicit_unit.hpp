@@ -56,6 +56,7 @@ class ImplicitCore {
   /// Nodes whose values the solve needs and writes: the inclusions' nodes, then the bodies' carried
   /// nodes not already listed (global node indices).
   const std::vector<size_t>& nodes() const { return nodes_; }
+  const StructuredMesh& mesh() const { return mesh_; }
   size_t implicitNodeCount() const { return implicit_nodes_; }
   size_t unknowns() const { return static_cast<size_t>(rhs_.size()); }
   const SplitLdlt& factor() const { return solver_; }
@@ -101,6 +102,9 @@ class ImplicitCore {
   Eigen::SparseMatrix<double, Eigen::RowMajor> stiffness_damping_;  // beta K_I over the unknowns
   int threads_ = 1;
   Eigen::VectorXd damping_, z_, rhs_;
+  // Per step, kept to avoid allocations: the bodies' generalised soil forces and a body's new velocity.
+  std::vector<Eigen::Matrix<double, 6, 1>> generalised_;
+  Eigen::VectorXd body_velocity_;
   bool ready_ = false;
 };
 
@@ -108,9 +112,7 @@ template <class Real>
 class ImplicitUnit final : public SolverUnit<Real> {
  public:
   ImplicitUnit(const StructuredMesh& global_mesh, double dt_s, double filter_decay, double beta_s, int threads)
-      : core_(global_mesh, dt_s, filter_decay, beta_s, threads),
-        global_sx_(global_mesh.nx + 1),
-        global_sxy_((global_mesh.nx + 1) * (global_mesh.ny + 1)) {
+      : core_(global_mesh, dt_s, filter_decay, beta_s, threads) {
     mapNodes(nullptr, nullptr);
   }
 
@@ -158,7 +160,7 @@ class ImplicitUnit final : public SolverUnit<Real> {
     core_.advance(force_, out_);
     for (size_t a = 0; a < local_.size(); ++a) {
       const size_t nd = local_[a];
-      if (nd == kNone) continue;
+      if (nd == kNotInSlab) continue;
       for (int c = 0; c < 3; ++c) {
         ctx.fields.u[c][nd] = static_cast<Real>(out_[9 * a + c]);
         ctx.fields.v[c][nd] = static_cast<Real>(out_[9 * a + 3 + c]);
@@ -171,38 +173,23 @@ class ImplicitUnit final : public SolverUnit<Real> {
   const ImplicitCore& core() const { return core_; }
 
  private:
-  static constexpr size_t kNone = static_cast<size_t>(-1);
-
+  // Serial: every node is this rank's. Spread: where each is in the slab (soil/partition.hpp).
   void mapNodes(const StructuredMesh* slab, const SlabPartition* partition) {
     const std::vector<size_t>& nodes = core_.nodes();
-    local_.assign(nodes.size(), kNone);
-    owned_.assign(nodes.size(), 0);
-    for (size_t a = 0; a < nodes.size(); ++a) {
-      const size_t g = nodes[a];
-      if (!partition) {
-        local_[a] = g;
-        owned_[a] = 1;
-        continue;
-      }
-      const size_t i = g % global_sx_, j = (g % global_sxy_) / global_sx_, k = g / global_sxy_;
-      owned_[a] = partition->ownsNodePlane(i) ? 1 : 0;
-      local_[a] = partition->holdsNodePlane(i) ? slab->node(i - partition->begin(), j, k) : kNone;
+    if (!partition) {
+      local_ = nodes;
+      owned_.assign(nodes.size(), 1);
+      return;
     }
+    mapToSlab(nodes, core_.mesh(), *slab, *partition, local_, owned_);
   }
 
   // Each node's values come from its owner (the others contribute 0): the sum over ranks.
   void sumOverRanks(std::vector<double>& values) {
-    if (!comm_) return;
-    comm_->allGather(values.data(), values.size(), gathered_);
-    std::fill(values.begin(), values.end(), 0.0);
-    const size_t n = values.size();
-    for (size_t r = 0; r < gathered_.size() / n; ++r) {
-      for (size_t q = 0; q < n; ++q) values[q] += gathered_[r * n + q];
-    }
+    if (comm_) comm_->sumInRankOrder(values.data(), values.size(), gathered_);
   }
 
   ImplicitCore core_;
-  size_t global_sx_, global_sxy_;
   const StructuredMesh* slab_ = nullptr;
   const SlabPartition* partition_ = nullptr;
   SoilComm* comm_ = nullptr;

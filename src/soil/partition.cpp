@@ -72,4 +72,17 @@ std::string describePartition(const SlabPartition& p) {
   return out.str();
 }
 
+void mapToSlab(const std::vector<size_t>& global_nodes, const StructuredMesh& global_mesh, const StructuredMesh& slab,
+               const SlabPartition& partition, std::vector<size_t>& local, std::vector<char>& owned) {
+  const size_t sx = global_mesh.nx + 1, sxy = sx * (global_mesh.ny + 1);
+  local.assign(global_nodes.size(), kNotInSlab);
+  owned.assign(global_nodes.size(), 0);
+  for (size_t a = 0; a < global_nodes.size(); ++a) {
+    const size_t g = global_nodes[a];
+    const size_t i = g % sx, j = (g % sxy) / sx, k = g / sxy;
+    owned[a] = partition.ownsNodePlane(i) ? 1 : 0;
+    if (partition.holdsNodePlane(i)) local[a] = slab.node(i - partition.begin(), j, k);
+  }
+}
+
 }  // namespace railvib::soil

@@ -143,11 +143,15 @@ RigidBodyCore::RigidBodyCore(const StructuredMesh& m, const std::vector<double>&
 
 void RigidBodyCore::setForce(const Eigen::Matrix<double, 6, 1>& f) { soil_force_ = f; }
 
+const Eigen::VectorXd& RigidBodyCore::stepForce() {
+  force_.head<6>() = soil_force_;
+  for (int i = 6; i < force_.size(); ++i) force_[i] = -omega2_[i] * x_[i];
+  return force_;
+}
+
 void RigidBodyCore::advance() {
   const int n = static_cast<int>(x_.size());
-  force_.setZero(n);
-  force_.head<6>() = soil_force_;
-  for (int i = 6; i < n; ++i) force_[i] = -omega2_[i] * x_[i];
+  stepForce();
   const int na = static_cast<int>(active_.size());
   Eigen::VectorXd va(na), fa(na);
   for (int r = 0; r < na; ++r) {
@@ -171,6 +175,14 @@ void RigidBodyCore::commitVelocity(const Eigen::VectorXd& v_next) {
   const int nm = n - 6;
   state_.modal_displacement = x_.tail(nm);
   state_.modal_velocity = v_.tail(nm);
+}
+
+RigidBodyCore::NodeFields RigidBodyCore::nodeFields(size_t a) const {
+  NodeFields q;
+  q.u = nodeValue(x_.head<6>(), a);
+  q.v = nodeValue(v_.head<6>(), a);
+  q.w = q.u + beta_ * nodeValue(vf_, a);
+  return q;
 }
 
 Eigen::Vector3d RigidBodyCore::nodeValue(const Eigen::Matrix<double, 6, 1>& q, size_t a) const {

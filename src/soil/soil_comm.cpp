@@ -3,6 +3,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cstdlib>
@@ -25,6 +26,14 @@ void SoilComm::broadcastDoubles(std::vector<double>& values) {
   broadcast(&n, sizeof(n));
   values.resize(n);
   if (n > 0) broadcast(values.data(), n * sizeof(double));
+}
+
+void SoilComm::sumInRankOrder(double* values, size_t n, std::vector<double>& scratch) {
+  allGather(values, n, scratch);
+  std::fill(values, values + n, 0.0);
+  for (size_t r = 0; r < scratch.size() / n; ++r) {
+    for (size_t q = 0; q < n; ++q) values[q] += scratch[r * n + q];
+  }
 }
 
 namespace {

@@ -196,7 +196,7 @@ struct ImplT : Solver::Impl {
     }
     auto unit = std::make_unique<RigidBodyUnit<Real>>(global_mesh, global_mass, spec, static_cast<double>(dt),
                                                       static_cast<double>(e_filter), static_cast<double>(beta));
-    if (comm) unit->spread(*mesh, partition, comm);
+    if (comm) unit->spread(global_mesh, *mesh, partition, comm);
     bodies.push_back(&unit->core());
     units.push_back(std::move(unit));
     return bodies.size() - 1;

@@ -45,6 +45,13 @@ SlabPartition makeSlabPartition(size_t nx, int ranks, int rank, size_t min_colum
 /// The slab [i0, i1) of element columns of a mesh, as a mesh of its own (x0 moved, the rest kept).
 StructuredMesh sliceMesh(const StructuredMesh& mesh, size_t i0, size_t i1);
 
+/// Where whole-mesh nodes (`global_nodes`, node indices of `global_mesh`) are on this rank: `local[a]` their
+/// index in `slab` (kNotInSlab when the slab does not hold their node plane), `owned[a]` 1 when this rank
+/// owns their plane (it alone contributes their values to a sum over ranks).
+constexpr size_t kNotInSlab = static_cast<size_t>(-1);
+void mapToSlab(const std::vector<size_t>& global_nodes, const StructuredMesh& global_mesh, const StructuredMesh& slab,
+               const SlabPartition& partition, std::vector<size_t>& local, std::vector<char>& owned);
+
 /// Partition summary line for logs: "2 ranks, element columns [0, 57) [57, 113)".
 std::string describePartition(const SlabPartition& p);
 

@@ -51,6 +51,9 @@ class SoilComm {
   virtual void sumToRoot(float* values, size_t n) = 0;
   /// Every rank's `n` values, in rank order, on every rank (all.size() = n * size()).
   virtual void allGather(const double* mine, size_t n, std::vector<double>& all) = 0;
+  /// Element-wise sum over the ranks, added in rank order: the same bits on every rank (`scratch`: the
+  /// gathered values, kept by the caller to avoid an allocation per call).
+  void sumInRankOrder(double* values, size_t n, std::vector<double>& scratch);
   /// Smallest / largest value over the ranks, on every rank.
   virtual double minimum(double value) = 0;
   virtual double maximum(double value) = 0;
