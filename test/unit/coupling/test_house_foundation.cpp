@@ -78,6 +78,8 @@ TEST(HouseFoundation, ImpossiblePlacementsAreRefusedWithTheKey) {
   EXPECT_NE(on_track.find("overlaps the track"), std::string::npos) << on_track;
   const std::string few_modes = refusal({"building.coupling_modes_max_hz=60.0"});
   EXPECT_NE(few_modes.find("building.coupling_modes_max_hz"), std::string::npos) << few_modes;
+  const std::string model = refusal({"building.foundation.model=slab"});
+  EXPECT_NE(model.find("building.foundation.model"), std::string::npos) << model;
   EXPECT_EQ(refusal({}), "accepted");
 }
 

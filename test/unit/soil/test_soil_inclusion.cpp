@@ -336,6 +336,15 @@ TEST(SoilInclusion, ConfigReadsAndRefusesWithTheKey) {
        "soil.inclusions[0].y_m", "thinner than one element"},
       {"    - {name: t, kind: hole, x_m: [-2.0, 2.0], y_m: [2.6, 3.4], depth_m: [0.0, 1.0]}\n",
        "soil.inclusions[0].kind", "hole"},
+      {"    - {name: t, kind: material, integration: sideways, x_m: [-2.0, 2.0], y_m: [2.6, 3.4], depth_m: [0.0, "
+       "1.0],\n"
+       "       material: {young_modulus_pa: 20.0e9, density_kg_m3: 2400.0, poisson_ratio: 0.2}}\n",
+       "soil.inclusions[0].integration", "sideways"},
+      {"    - {name: t, kind: material, integration: implicit, x_m: [-2.0, 2.0], y_m: [2.6, 3.4], depth_m: [0.0, "
+       "1.0],\n"
+       "       material: {young_modulus_pa: 20.0e9, density_kg_m3: 2400.0, poisson_ratio: 0.2, rayleigh_beta_s: "
+       "-1.0e-4}}\n",
+       "soil.inclusions[0].material.rayleigh_beta_s", "out of range"},
       {"    - {name: t, kind: void, x_m: [2.0, -2.0], y_m: [2.6, 3.4], depth_m: [0.0, 1.0]}\n",
        "soil.inclusions[0].x_m", "must exceed the first"},
       {"    - {name: t, kind: void, x_m: [-2.0, 2.0], y_m: [2.6, 3.4], depth_m: [-1.0, 1.0]}\n",
