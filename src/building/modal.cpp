@@ -71,7 +71,12 @@ int signChanges(std::vector<std::pair<double, double>> samples) {
 
 }  // namespace
 
-std::string labelMode(const BuildingModel& model, const Mode& mode, double total_mass_kg) {
+std::string upperFloorSlab(const BuildingParams& params) {
+  if (params.storeys >= 2) return "slab_1";
+  return params.roof_slab ? "roof" : "";
+}
+
+ModeDescription describeMode(const BuildingModel& model, const Mode& mode, double total_mass_kg) {
   const BuildingMesh& mesh = model.mesh();
   const Eigen::VectorXd& m = model.mass();
   const Eigen::VectorXd& phi = mode.shape;
@@ -94,11 +99,11 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
     if (g == "wall_left" || g == "wall_right" || g == "wall_interior_y") comp = 0;
     energy[g] += m[6 * n + comp] * phi[6 * n + comp] * phi[6 * n + comp];
   }
-  if (total <= 0.0) return "none";
+  if (total <= 0.0) return {"none", ""};
   const Eigen::Vector3d frac = mode.effective_mass_kg / total_mass_kg;
-  if (mode.torsion_mass_fraction > 0.2) return "torsion";
-  if (frac.x() > 0.2) return "sway x (along the length)";
-  if (frac.y() > 0.2) return "sway y (across the width)";
+  if (mode.torsion_mass_fraction > 0.2) return {"torsion", ""};
+  if (frac.x() > 0.2) return {"sway x (along the length)", ""};
+  if (frac.y() > 0.2) return {"sway y (across the width)", ""};
   double slab_e = 0.0, wall_e = 0.0;
   std::string best_slab;
   double best_slab_e = 0.0;
@@ -116,7 +121,9 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
     }
   }
   std::ostringstream os;
+  ModeDescription out;
   if (slab_e >= wall_e && !best_slab.empty()) {
+    out.slab_group = best_slab;
     // half-wave numbers along the slab's centre lines
     // lines at 30 % of the span: off every nodal line of the low (m, n) modes
     const double xq = mesh.x0_m + 0.3 * (mesh.x1_m - mesh.x0_m), yq = mesh.y0_m + 0.3 * (mesh.y1_m - mesh.y0_m);
@@ -150,7 +157,8 @@ std::string labelMode(const BuildingModel& model, const Mode& mode, double total
     }
     if (slab_e > 0.3 * total) os << " + floor bending";
   }
-  return os.str();
+  out.label = os.str();
+  return out;
 }
 
 std::vector<double> lowestFrequencies(const Eigen::SparseMatrix<double>& k, const Eigen::VectorXd& m, int count,
@@ -265,8 +273,15 @@ ModalResult modalAnalysis(const BuildingModel& model, const ModalOptions& opt) {
     result.cumulative_effective_mass_fraction += mode.effective_mass_kg / free_mass;
     result.modes.push_back(std::move(mode));
   }
-  for (Mode& mode : result.modes)
-    mode.label = mode.frequency_hz < 1e-3 * opt.fmax_hz ? "rigid body" : labelMode(model, mode, free_mass);
+  for (Mode& mode : result.modes) {
+    if (mode.frequency_hz < 1e-3 * opt.fmax_hz) {
+      mode.label = "rigid body";
+      continue;
+    }
+    ModeDescription d = describeMode(model, mode, free_mass);
+    mode.label = std::move(d.label);
+    mode.bending_slab = std::move(d.slab_group);
+  }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }

@@ -32,6 +32,7 @@ json modeJson(const Mode& m, size_t index, double free_mass) {
             {"z", m.effective_mass_kg.z() / free_mass}}},
           {"torsion_fraction", m.torsion_mass_fraction},
           {"label", m.label},
+          {"bending_slab", m.bending_slab},
           {"symmetric", m.symmetric},
           {"symmetry_x", m.symmetry_x},
           {"symmetry_y", m.symmetry_y}};

@@ -20,6 +20,9 @@ struct Mode {
   Eigen::Vector3d effective_mass_kg = Eigen::Vector3d::Zero();  ///< x, y, z base translation
   double torsion_mass_fraction = 0.0;  ///< effective rotational inertia about z / total (free DOFs)
   std::string label;
+  /// Mesh group of the slab whose out-of-plane bending carries the most kinetic energy when the slabs
+  /// outweigh the walls ("slab_0", "slab_1", ..., "roof", "base_slab"); empty for wall, sway and torsion modes.
+  std::string bending_slab;
   double symmetry_x = 0.0;  ///< +1 symmetric / -1 antisymmetric about the plane x = mid-length
   double symmetry_y = 0.0;  ///< about the plane y = mid-width
   bool symmetric = false;   ///< symmetric about both vertical mid-planes
@@ -47,7 +50,16 @@ ModalResult modalAnalysis(const BuildingModel& model, const ModalOptions& option
 std::vector<double> lowestFrequencies(const Eigen::SparseMatrix<double>& k, const Eigen::VectorXd& m, int count,
                                       double sigma = 0.0);
 
-/// Automatic label of a mode from its kinetic energy distribution (exposed for tests).
-std::string labelMode(const BuildingModel& model, const Mode& mode, double total_mass_kg);
+/// What a mode is, from its kinetic energy distribution: a label ("first floor bending (1,1)", "sway y
+/// (across the width)", ...) and the slab that bends most (Mode::bending_slab).
+struct ModeDescription {
+  std::string label;
+  std::string slab_group;
+};
+/// Mesh group of the paper's "upper floor" (section 3.4; "first floor" in Fig. 14, "upper floor" in Fig. 15):
+/// the slab above the ground floor ("slab_1"), or the roof slab of a one-storey house; empty if there is none.
+std::string upperFloorSlab(const BuildingParams& params);
+
+ModeDescription describeMode(const BuildingModel& model, const Mode& mode, double total_mass_kg);
 
 }  // namespace railvib::building

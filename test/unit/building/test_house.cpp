@@ -94,6 +94,46 @@ TEST(House, FixedBaseModesMatchThePaperPicture) {
   }
 }
 
+TEST(House, ARoofSlabHoldsTheWallTopsAndStiffensTheFirstFloor) {
+  ModalOptions opt;
+  opt.fmax_hz = 80.0;
+  const ModalResult open = modalAnalysis(BuildingModel(houseParams({"building.roof_slab=false"})), opt);
+  const ModalResult roofed = modalAnalysis(BuildingModel(houseParams({"building.roof_slab=true"})), opt);
+  auto firstBending = [](const ModalResult& r, const std::string& slab) {
+    for (const Mode& m : r.modes)
+      if (m.symmetric && m.bending_slab == slab) return m.frequency_hz;
+    return 0.0;
+  };
+  auto lowestWallFlexure = [](const ModalResult& r) {
+    for (const Mode& m : r.modes)
+      if (m.bending_slab.empty() && m.label.rfind("wall flexure", 0) == 0) return m.frequency_hz;
+    return 1e9;
+  };
+  // Out-of-plane panel of a wall between two slabs, simply supported on its four edges (Leissa 1969,
+  // f = pi/2 (1/a^2 + 1/b^2) sqrt(D / rho h)): the floor-to-floor panel of the front wall, 9.75 m x 2.5 m.
+  const double e = 10.0e9, nu = 10.0e9 / (2 * 4.2e9) - 1.0, h = 0.25, rho = 1800.0;
+  const double d = e * h * h * h / (12.0 * (1.0 - nu * nu));
+  const double panel_hz = M_PI / 2.0 * (1.0 / (9.75 * 9.75) + 1.0 / (2.5 * 2.5)) * std::sqrt(d / (rho * h));
+  // With the roof every wall panel is held at both slabs: no wall mode below the simply supported panel.
+  EXPECT_GT(lowestWallFlexure(roofed), panel_hz);
+  // With a free top edge the upper panels are held on three sides only and flex far lower.
+  EXPECT_LT(lowestWallFlexure(open), 0.5 * panel_hz);
+  // The walls held at the top restrain the first floor's edges more: its (1,1) bending rises, and stays
+  // below the clamped 9.5 m x 6.5 m concrete plate (~16 Hz, docs/building.md).
+  const double open_floor = firstBending(open, "slab_1"), roofed_floor = firstBending(roofed, "slab_1");
+  EXPECT_GT(open_floor, 10.0);
+  EXPECT_GT(roofed_floor, 1.05 * open_floor);
+  EXPECT_LT(roofed_floor, 16.5);
+  // The roof slab has its own doubly symmetric bending; it is absent without the roof.
+  EXPECT_GT(firstBending(roofed, "roof"), 10.0);
+  EXPECT_EQ(firstBending(open, "roof"), 0.0);
+  std::printf(
+      "[ figures ] first floor (1,1): free top %.2f Hz, roof %.2f Hz; roof (1,1) %.2f Hz; lowest wall "
+      "flexure: free top %.2f Hz, roof %.2f Hz (panel bound %.2f Hz)\n",
+      open_floor, roofed_floor, firstBending(roofed, "roof"), lowestWallFlexure(open), lowestWallFlexure(roofed),
+      panel_hz);
+}
+
 TEST(House, FirstFrequencyConvergesWithMeshRefinement) {
   std::vector<double> f;
   for (const char* h : {"1.0", "0.5", "0.25"}) {
