@@ -167,6 +167,9 @@ StiffSoilResult runStiffSoilCheck(const StiffSoilSpec& spec) {
                        "soil.mesh.threads=" + std::to_string(spec.threads),
                        "soil.mesh.ranks=0",
                        "soil.boundary.method=dashpots",
+                       // The premise: the house on a rigid base (the scenario's box may be meshed, which
+                       // the check's coarse plan grid cannot hold).
+                       "building.foundation.model=rigid",
                        "site.building.front_wall_distance_from_rail_m=" + num(spec.front_wall_distance_m),
                        "site.building.center_x_m=0.0",
                    });

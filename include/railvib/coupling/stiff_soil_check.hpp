@@ -25,7 +25,8 @@ namespace railvib::coupling {
 struct StiffSoilSpec {
   /// The scenario that gives the house, the track's sleepers and the soil solver's options, and the
   /// user's overrides (applied first); the check then replaces the soil by a homogeneous half-space
-  /// and sets the box, the boundary (dashpots) and the house's distance below.
+  /// and sets the box, the boundary (dashpots), a rigid foundation (building.foundation.model: the
+  /// reference is the house on the rigid fit of the free field) and the house's distance below.
   std::string scenario_file;
   std::vector<std::string> overrides;
   double shear_wave_speed_m_s = 10000.0;
