@@ -280,9 +280,10 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
         c.cause = "the first floor amplifies the motion of the ring it stands on (the walls' tops) more than 2 x";
       }
     } else if (two_way) {
-      // Measured on the 10 s default runs (docs/validation.md, C6): 2.13 two-way, 1.42 one-way.
+      // Measured on the 10 s runs with the rigid box (docs/validation.md, C6): 2.13 two-way, 1.42 one-way.
       c.expected = Verdict::Differs;
       c.cause =
+          "(figures of the 10 s runs with the rigid box and no roof slab) "
           "with the house on the soil the ground floor moves with the rigid foundation, whose vertical motion is "
           "the footprint average of the incoming field (0.11 x the free field at the point), and that is what "
           "drives the floor modes: the ratio is the house's own amplification of its base motion, 4.9 x in "
