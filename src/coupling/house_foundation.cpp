@@ -24,6 +24,12 @@ std::string str(double v) {
   return s.str();
 }
 
+// The house's fixed-interface modes kept in the reduction (Hz): building.coupling_modes_max_hz, 0 meaning
+// twice the soil's resolved frequency.
+double couplingModesMaxHz(const building::BuildingParams& bp, const soil::SoilParams& sp) {
+  return bp.coupling_modes_max_hz > 0.0 ? bp.coupling_modes_max_hz : 2.0 * sp.mesh.f_max_hz;
+}
+
 }  // namespace
 
 std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams& bp, const soil::SoilParams& sp) {
@@ -52,9 +58,13 @@ std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams
   const long k_base = k_bottom - elements(bp.base_slab_thickness_m, m.z[k_bottom] - m.z[k_bottom - 1]);
   const long k_top = bp.ground_slab_on_fill ? elements(bp.floor_thickness_m, m.z[1] - m.z[0]) : 0L;
   if (i1 - i0 < 2 * wx + 1 || j1 - j0 < 2 * wy + 1 || k_base <= k_top) {
-    throw std::invalid_argument(
-        "building.foundation.model meshed: the soil mesh is too coarse for the foundation box (its walls and slabs "
-        "need one element each and room between them)");
+    std::ostringstream os;
+    os << "building.foundation.model meshed: the soil mesh is too coarse for the foundation box (its walls and "
+          "slabs need one element each and room between them): elements "
+       << m.hx << " x " << m.hy << " m in plan and " << (m.z[1] - m.z[0]) << " m deep at the surface against walls "
+       << bp.foundation_wall_thickness_m << " m and a box " << bp.foundation_depth_m
+       << " m deep; refine soil.mesh (f_max_hz, elements_per_wavelength) or take building.foundation.model: rigid";
+    throw std::invalid_argument(os.str());
   }
   soil::Material concrete{bp.foundation.young_modulus_pa, bp.foundation.density_kg_m3, bp.foundation.poisson()};
   auto box = [&](const std::string& name, long a0, long a1, long b0, long b1, long c0, long c1) {
@@ -80,9 +90,8 @@ std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams
   return out;
 }
 
-HouseFoundation houseFoundation(const ConfigNode& root, const building::BuildingModel& model,
-                                const soil::SoilParams& sp) {
-  const building::BuildingParams& bp = model.params();
+std::vector<soil::InclusionSpec> checkHouseInSoil(const ConfigNode& root, const building::BuildingParams& bp,
+                                                  const soil::SoilParams& sp) {
   const ConfigNode bld = root.section("building");
   const ConfigNode site_building = root.section("site").section("building");
   // Placement: the foundation box in the track frame (x, y; depth below the surface).
@@ -108,14 +117,30 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
                        "the house's front wall (y = " + str(y0) +
                            " m) overlaps the track: the sleepers reach y = " + str(sleeper_half_length) + " m");
   }
-  const double fmax = bp.coupling_modes_max_hz > 0.0 ? bp.coupling_modes_max_hz : 2.0 * sp.mesh.f_max_hz;
-  if (fmax < 2.0 * sp.mesh.f_max_hz) {
+  if (couplingModesMaxHz(bp, sp) < 2.0 * sp.mesh.f_max_hz) {
     bld.fail("coupling_modes_max_hz",
              "the reduction must keep the house's modes up to at least twice the soil's "
              "resolved frequency (2 x soil.mesh.f_max_hz = " +
                  str(2.0 * sp.mesh.f_max_hz) + " Hz)");
   }
 
+  if (bp.foundation_model != building::FoundationModel::Meshed) return {};
+  try {
+    return meshedFoundation(bp, sp);
+  } catch (const std::invalid_argument& e) {
+    bld.section("foundation").fail("model", e.what());
+  }
+  return {};
+}
+
+HouseFoundation houseFoundation(const ConfigNode& root, const building::BuildingModel& model,
+                                const soil::SoilParams& sp) {
+  const building::BuildingParams& bp = model.params();
+  std::vector<soil::InclusionSpec> inclusions = checkHouseInSoil(root, bp, sp);
+  const double x0 = bp.placement.origin_x_m, x1 = x0 + bp.length_m;
+  const double y0 = bp.placement.origin_y_m, y1 = y0 + bp.width_m;
+  const double depth = bp.foundation_depth_m;
+  const double fmax = couplingModesMaxHz(bp, sp);
   HouseFoundation h;
   h.model = bp.foundation_model;
   const Eigen::Vector3d centre_building(0.5 * bp.length_m, 0.5 * bp.width_m, 0.0);
@@ -140,11 +165,7 @@ HouseFoundation houseFoundation(const ConfigNode& root, const building::Building
   if (h.model == building::FoundationModel::Meshed) {
     // The concrete is in the soil mesh; the house stands on the tops of the box's walls, its rigid
     // interface (the Craig-Bampton reduction's), carried as a ring of surface nodes.
-    try {
-      h.inclusions = meshedFoundation(bp, sp);
-    } catch (const std::invalid_argument& e) {
-      bld.section("foundation").fail("model", e.what());
-    }
+    h.inclusions = std::move(inclusions);
     b.added_mass.setZero();
     b.depth_m = 0.0;
     b.ring_width_m = bp.foundation_wall_thickness_m;

@@ -7,6 +7,7 @@
 #include "railvib/building/model.hpp"
 #include "railvib/common/site.hpp"
 #include "railvib/common/stream_contract.hpp"
+#include "railvib/coupling/house_foundation.hpp"
 #include "railvib/signal/virtual_sensor.hpp"
 #include "railvib/soil/soil_params.hpp"
 #include "railvib/track/track_model.hpp"
@@ -71,6 +72,8 @@ nlohmann::json validateScenario(const Config& config) {
     receivers.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m});
   }
   const soil::SoilParams soil = soil::loadSoilParams(root, receivers);
+  // The house in the soil (two-way): what the soil node would refuse, refused here.
+  if (house.coupling == building::SoilCoupling::TwoWay) coupling::checkHouseInSoil(root, house, soil);
   loadSiteLayout(root);
   const signal::VirtualSensorConfig sensors = signal::loadVirtualSensorConfig(root);
   loadStreamLimits(root);

@@ -41,6 +41,14 @@ struct HouseFoundation {
 std::vector<soil::InclusionSpec> meshedFoundation(const building::BuildingParams& params,
                                                   const soil::SoilParams& soil_params);
 
+/// What the two-way coupling requires of the house in the soil, checked without building the house's
+/// reduction (so `config-check` refuses what the soil node would): the placement (inside the soil box and
+/// outside its absorbing zone, not deeper than the mesh, clear of the track's sleepers), the mode cut-off,
+/// and for a meshed foundation that the mesh holds the box. Refuses with the key path (ConfigError);
+/// returns the meshed box's inclusions (empty for a rigid one).
+std::vector<soil::InclusionSpec> checkHouseInSoil(const ConfigNode& root, const building::BuildingParams& params,
+                                                  const soil::SoilParams& soil_params);
+
 /// The soil's rigid body for the house of `model` on the soil of `soil_params`. Checks the
 /// placement (inside the soil box and outside its absorbing zone, not deeper than the mesh, clear
 /// of the track's sleepers) and the mode cut-off, and refuses with the key path (ConfigError).

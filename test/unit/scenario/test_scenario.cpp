@@ -272,6 +272,16 @@ TEST(Scenario, CrossChecksBetweenSections) {
   expect(verdictOf("haren_ci.yaml", {"unevenness.measured_profile.enabled=true",
                                      "unevenness.measured_profile.file=/nonexistent/profile.csv"}),
          {"unevenness.measured_profile.file", "no such file"});
+  // The house in the soil (two-way): refused at config time as the soil node would refuse it.
+  expect(
+      verdictOf("haren_ci.yaml", {"building.foundation.model=meshed"}),
+      {"building.foundation.model = meshed", "too coarse for the foundation box", "building.foundation.model: rigid"});
+  expect(verdictOf("haren_ci.yaml", {"site.building.front_wall_distance_from_rail_m=0.3"}),
+         {"site.building.front_wall_distance_from_rail_m = 0.3", "overlaps the track"});
+  expect(verdictOf("haren_ci.yaml", {"building.coupling_modes_max_hz=30.0"}),
+         {"building.coupling_modes_max_hz = 30", "twice the soil's"});
+  // One-way: the soil does not hold the house, so nothing of it is checked against the mesh.
+  EXPECT_EQ(verdictOf("haren_ci.yaml", {"building.foundation.model=meshed", "building.coupling=one_way"}), "");
 }
 
 TEST(Scenario, ASensorAtAPointNoSourceOutputsIsRefused) {
