@@ -12,8 +12,17 @@ Writes into OUTDIR (default: BAG without .bag + "_export"):
                           surface_velocities  <receiver>_v{x,y,z}_m_s (positions in csv/surface_points.csv)
                           building_response   <point>_v{x,y,z}_m_s (positions in csv/building_points.csv)
                           sensor_samples      <sensor>_v{x,y,z}_m_s, <sensor>_a{x,y,z}_m_s2
+  csv/metrics_<sensor>.csv  the sensor's live metrics (/sensor_metrics, ~10 Hz), one row per message:
+                          t_s, kb_f, kb_f_max, ppv_m_s, ppv_vertical_m_s, governing_component,
+                          governing_ppv_m_s, dominant_frequency_hz, din4150_3_limit_m_s, the verdicts
+                          (din4150_2, din4150_3, sensor) and L_<fc>Hz_db: each one-third-octave velocity
+                          level (dB re 1e-9 m/s) as of that message
+  csv/third_octave_levels.csv  sensor, kind, band centre (Hz), level (dB re 1e-9 m/s) of the whole
+                          record (the last metrics message of each sensor)
   railvib.mat           the same streams as MATLAB structs (scipy.io.savemat, MAT 5): per stream
                           t_s [samples x 1], the arrays [samples x channels (x 3)] and the names
+                          and `metrics`, a struct per sensor: t_s, the values above [messages x 1],
+                          third_octave_center_hz [bands], third_octave_level_db [messages x bands]
   vtk/surface.pvd       the soil surface's vertical velocity as a VTK time series (one ImageData
                           file per /surface_snapshot, frame track, m and m/s) that ParaView opens
   vtk/section.pvd       the vertical section (/section_snapshot) as StructuredGrid files, z up
@@ -34,6 +43,7 @@ import numpy as np
 
 import bag_check
 import railvib_names as names
+import railvib_verdicts as verdicts
 import report
 from railvib_paths import find_railvib_tool, OutputDirError, output_dir
 
@@ -146,6 +156,78 @@ def read_streams(bag):
     return streams, layouts
 
 
+METRIC_VALUES = ("kb_f", "kb_f_max", "ppv_m_s", "ppv_vertical_m_s", "governing_component", "governing_ppv_m_s",
+                 "dominant_frequency_hz", "din4150_3_limit_m_s")
+METRIC_VERDICTS = ("din4150_2_verdict", "din4150_3_verdict", "verdict")
+
+
+class SensorMetrics:
+    """One sensor's recorded /sensor_metrics messages, in time order: the values the core computed, as they are."""
+
+    def __init__(self, sensor, messages):
+        self.sensor = sensor
+        self.kind = verdicts.kind_name(messages[-1].kind)
+        self.t_s = np.array([m.header.stamp.to_sec() for m in messages])
+        self.values = {f: np.array([getattr(m, f) for m in messages], dtype=float) for f in METRIC_VALUES}
+        self.verdicts = {f: [verdicts.verdict_name(getattr(m, f)) for m in messages] for f in METRIC_VERDICTS}
+        centers = [tuple(m.third_octave_center_hz) for m in messages]
+        self.center_hz = np.array(centers[-1])
+        # The bands are the sensor's throughout (the metrics contract); a change is said, and the levels
+        # kept as of the last message only.
+        self.consistent_bands = all(c == centers[-1] for c in centers)
+        if self.consistent_bands:
+            self.level_db = np.array([list(m.third_octave_level_db) for m in messages], dtype=float).reshape(
+                len(messages), len(self.center_hz))
+        else:
+            say(f"metrics of {sensor}: the bands change during the record; band levels of the last message only")
+            self.level_db = np.array([list(messages[-1].third_octave_level_db)], dtype=float)
+
+
+def read_metrics(bag):
+    """Each sensor's metrics messages (/sensor_metrics) as SensorMetrics, in the order the sensors first report."""
+    by_sensor = {}
+    for _, m, _ in bag.read_messages(topics=[names.SENSOR_METRICS]):
+        by_sensor.setdefault(m.sensor_name, []).append(m)
+    out = []
+    for sensor, messages in by_sensor.items():
+        messages.sort(key=lambda m: m.header.stamp.to_sec())
+        out.append(SensorMetrics(sensor, messages))
+    return out
+
+
+def band_label(center_hz):
+    return f"L_{center_hz:g}Hz_db"
+
+
+def write_metrics_csv(outdir, metrics):
+    d = outdir / "csv"
+    d.mkdir(parents=True, exist_ok=True)
+    for sm in metrics:
+        path = d / f"metrics_{sm.sensor}.csv"
+        bands = sm.consistent_bands
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f, lineterminator="\n")
+            w.writerow(["t_s", *METRIC_VALUES, *METRIC_VERDICTS] + ([band_label(c) for c in sm.center_hz] if bands else []))
+            for k, t in enumerate(sm.t_s):
+                # governing_component: 0 x, 1 y, 2 z of the sensor's frame, an index, not a measure
+                row = [repr(float(t))] + [str(int(sm.values[v][k])) if v == "governing_component"
+                                          else repr(float(sm.values[v][k])) for v in METRIC_VALUES]
+                row += [sm.verdicts[v][k] for v in METRIC_VERDICTS]
+                if bands:
+                    row += [repr(float(x)) for x in sm.level_db[k]]
+                w.writerow(row)
+        say(f"{path}: {len(sm.t_s)} metrics messages")
+    if metrics:
+        path = d / "third_octave_levels.csv"
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f, lineterminator="\n")
+            w.writerow(["sensor", "kind", "center_hz", "level_db"])
+            for sm in metrics:
+                for c, level in zip(sm.center_hz, sm.level_db[-1]):
+                    w.writerow([sm.sensor, sm.kind, repr(float(c)), repr(float(level))])
+        say(f"{path}: the whole record's one-third-octave levels of {len(metrics)} sensors")
+
+
 def write_csv(outdir, streams, layouts):
     d = outdir / "csv"
     d.mkdir(parents=True, exist_ok=True)
@@ -163,7 +245,7 @@ def write_csv(outdir, streams, layouts):
             w.writerows(rows)
 
 
-def write_mat(outdir, streams):
+def write_mat(outdir, streams, metrics):
     try:
         import scipy.io
     except ImportError:
@@ -173,6 +255,13 @@ def write_mat(outdir, streams):
         struct = {"t_s": s.t_s.reshape(-1, 1), "sample_period_s": float(s.t_s[1] - s.t_s[0]) if len(s.t_s) > 1 else 0.0}
         struct.update(s.arrays)
         content[s.name] = struct
+    if metrics:
+        content["metrics"] = {
+            sm.sensor: {"t_s": sm.t_s.reshape(-1, 1), "kind": sm.kind,
+                        **{v: sm.values[v].reshape(-1, 1) for v in METRIC_VALUES},
+                        **{v: np.array(sm.verdicts[v], dtype=object) for v in METRIC_VERDICTS},
+                        "third_octave_center_hz": sm.center_hz, "third_octave_level_db": sm.level_db}
+            for sm in metrics}
     path = outdir / "railvib.mat"
     scipy.io.savemat(str(path), content, do_compression=True, long_field_names=True)
     say(f"{path}: {', '.join(content)}")
@@ -306,10 +395,12 @@ def main(argv):
     with bag:
         if what & {"csv", "mat"}:
             streams, layouts = read_streams(bag)
+            metrics = read_metrics(bag)
             if "csv" in what:
                 write_csv(outdir, streams, layouts)
+                write_metrics_csv(outdir, metrics)
             if "mat" in what:
-                write_mat(outdir, streams)
+                write_mat(outdir, streams, metrics)
         if "vtk" in what:
             write_vtk(outdir, bag, options.every)
         record, why = report.scenario_record(bag)

@@ -60,6 +60,30 @@ def velocity(k, point, c):
     return 1e-3 * math.sin(0.0123 * k + point) * (c + 1) / 3.0
 
 
+BANDS_HZ = [8.0, 10.0, 12.5]
+
+
+def metrics_message(sensor, i, r):
+    """Sensor i's r-th metrics message: values that tell sensor and message apart, within the contract."""
+    m = rm.VibrationMetrics()
+    m.header.stamp = rospy.Time.from_sec(0.1 if r == 0 else (SAMPLES - 1) / FS_HZ)
+    m.sensor_name = sensor
+    m.kind = m.KIND_FREE_FIELD if i == 0 else m.KIND_FLOOR
+    m.resolved_hz = 50.0
+    m.kb_f = 0.01 * (i + 1) * (r + 1)
+    m.kb_f_max = 0.02 * (i + 1) * (r + 1)
+    m.ppv_m_s, m.ppv_vertical_m_s = 1e-3 * (i + r + 1), 5e-4 * (i + r + 1)
+    m.governing_component, m.governing_ppv_m_s = 2, 5e-4 * (i + r + 1)
+    m.dominant_frequency_hz, m.din4150_3_limit_m_s = 20.0 + i, 5e-3
+    m.third_octave_center_hz = BANDS_HZ
+    m.third_octave_level_db = [60.0 + 10 * i + r + b for b in range(len(BANDS_HZ))]
+    m.din4150_2_a_u, m.din4150_2_a_o, m.din4150_2_a_r = 0.3, 6.0, 0.2
+    m.din4150_2_verdict = m.VERDICT_NOT_APPLICABLE if i == 0 else m.VERDICT_OK
+    m.din4150_3_verdict = m.din4150_2_verdict
+    m.verdict = m.din4150_2_verdict
+    return m
+
+
 def export_bag(path, per_sensor_messages=True, drop_one=False):
     """Sensors and receivers at 1 kHz in blocks of 200, 3 surface and 3 section snapshots, a scenario record."""
     with rosbag.Bag(str(path), "w") as bag:
@@ -110,11 +134,10 @@ def export_bag(path, per_sensor_messages=True, drop_one=False):
             sec.depth_m = [0.0, 0.5, 1.5]
             sec.vertical_velocity_m_s = [SNAP_SCALE * (s + j + 100 * r) for r in range(3) for j in range(3)]  # y fastest
             bag.write(names.SECTION_SNAPSHOT, sec, stamp)
-        for sensor in SENSORS:
-            m = rm.VibrationMetrics()
-            m.header.stamp = rospy.Time.from_sec((SAMPLES - 1) / FS_HZ)
-            m.sensor_name = sensor
-            bag.write(names.SENSOR_METRICS, m, m.header.stamp)
+        for r in range(2):  # two metrics messages per sensor, the second as of the last sample
+            for i, sensor in enumerate(SENSORS):
+                m = metrics_message(sensor, i, r)
+                bag.write(names.SENSOR_METRICS, m, m.header.stamp)
         bag.write(names.SCENARIO, String(data=yaml.safe_dump({"railvib_version": "test", "config": {"soil": {}}})), t0)
         status = {"status": "closed: all streams complete",
                   "expected_streams": [names.SURFACE_VELOCITIES, names.SENSOR_SAMPLES]}
@@ -166,6 +189,33 @@ class Export(unittest.TestCase):
         self.assertEqual(list(ss.sensor_names), SENSORS)
         self.assertAlmostEqual(ss.t_s[-1], (SAMPLES - 1) / FS_HZ, places=15)
         self.assertEqual(mat["surface_velocities"].velocity_m_s[450, 1, 1], velocity(450, 6, 1))
+
+    def test_the_metrics_are_the_recorded_messages_per_sensor(self):
+        # KB_F, PPV, verdicts and one-third-octave levels per sensor and message, as the core sent them.
+        for i, sensor in enumerate(SENSORS):
+            with open(self.out / "csv" / f"metrics_{sensor}.csv") as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(len(rows), 2)
+            for r, row in enumerate(rows):
+                m = metrics_message(sensor, i, r)
+                self.assertEqual(float(row["t_s"]), m.header.stamp.to_sec())
+                self.assertEqual(float(row["kb_f_max"]), m.kb_f_max)
+                self.assertEqual(float(row["ppv_vertical_m_s"]), m.ppv_vertical_m_s)
+                self.assertEqual(row["verdict"], "not applicable" if i == 0 else "OK")
+                self.assertEqual([float(row[f"L_{c:g}Hz_db"]) for c in BANDS_HZ], list(m.third_octave_level_db))
+        with open(self.out / "csv" / "third_octave_levels.csv") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), len(SENSORS) * len(BANDS_HZ))
+        floor = [r for r in rows if r["sensor"] == SENSORS[1]]
+        self.assertEqual([r["kind"] for r in floor], ["floor"] * len(BANDS_HZ))
+        self.assertEqual([float(r["level_db"]) for r in floor], list(metrics_message(SENSORS[1], 1, 1).third_octave_level_db))
+        import scipy.io
+        mat = scipy.io.loadmat(str(self.out / "railvib.mat"), squeeze_me=True, struct_as_record=False)
+        ground = getattr(mat["metrics"], SENSORS[0])
+        self.assertEqual(list(ground.kb_f), [0.01, 0.02])
+        self.assertEqual(ground.third_octave_level_db.shape, (2, len(BANDS_HZ)))
+        self.assertEqual(list(ground.third_octave_center_hz), BANDS_HZ)
+        self.assertEqual(list(ground.verdict), ["not applicable"] * 2)
 
     def test_the_surface_series_is_vtk_image_data_at_the_snapshot_times(self):
         pvd = ET.parse(self.out / "vtk" / "surface.pvd").getroot()
