@@ -169,6 +169,7 @@ void ImplicitCore::initialise(const std::vector<double>& values) {
   td.shrink_to_fit();
   Eigen::SparseMatrix<double> matrix(count, count);
   matrix.setFromTriplets(t.begin(), t.end());
+  std::vector<Eigen::Triplet<double>>().swap(t);  // released before the factorisation, the peak
   // One level of nested dissection for the two-thread substitutions: the node plane i_mid (the median
   // plane of the unknowns) and the bodies (their rings may reach both sides) separate the nodes below
   // it from those above, which share no element.
