@@ -76,6 +76,14 @@ std::string upperFloorSlab(const BuildingParams& params) {
   return params.roof_slab ? "roof" : "";
 }
 
+const Mode* upperFloorBending(const ModalResult& result, const BuildingParams& params) {
+  const std::string slab = upperFloorSlab(params);
+  if (slab.empty()) return nullptr;
+  for (const Mode& m : result.modes)
+    if (m.symmetric && m.bending_slab == slab) return &m;
+  return nullptr;
+}
+
 ModeDescription describeMode(const BuildingModel& model, const Mode& mode, double total_mass_kg) {
   const BuildingMesh& mesh = model.mesh();
   const Eigen::VectorXd& m = model.mass();

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "railvib/building/modal.hpp"
@@ -156,6 +157,9 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
   const std::vector<double>* hg = house_run.find("house_ground_floor");
   const std::vector<double>* h1 = house_run.find("house_first_floor");
   const std::vector<double>* ff = clm.find(names::kBuildingResponseFreeFieldPoint);
+  // The house of the scenario, when it has one: loaded once for the claims below.
+  std::optional<building::BuildingParams> house_params;
+  if (cfg.root().has("building")) house_params = building::loadBuildingParams(cfg.root());
   const std::string ground_cause =
       "the spectrum is that of the contact force after each impact: the front motor wheel (945 + 80 kg per wheel) "
       "hops on the flexible track at ~33 Hz (CLM; 29 Hz Winkler), its largest dynamic response; the leading "
@@ -271,8 +275,7 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
                " / " + fixed(1e3 * ppv(*hg), 2) + " mm/s)";
       c.verdict = verdictOf(r >= 0.5 && r <= 2.0);
     }
-    const bool meshed = cfg.root().has("building") &&
-                        building::loadBuildingParams(cfg.root()).foundation_model == building::FoundationModel::Meshed;
+    const bool meshed = house_params && house_params->foundation_model == building::FoundationModel::Meshed;
     if (two_way && meshed) {
       // Measured on the 10 s runs with the box meshed in concrete (docs/validation.md, C6): 1.91.
       c.expected = Verdict::Agrees;
@@ -294,18 +297,16 @@ std::vector<Claim> chainClaims(const Config& cfg, const SensorRecords& clm, cons
     }
     out.push_back(c);
   }
-  if (hg && h1 && cfg.root().has("building")) {
-    const building::BuildingModel house(building::loadBuildingParams(cfg.root()));
+  if (hg && h1 && house_params) {
+    const building::BuildingModel house(*house_params);
     const building::ModalResult modes = building::modalAnalysis(house);
     const Peak p1 = spectralPeak(*h1, fs, smooth_hz), pg = spectralPeak(*hg, fs, smooth_hz);
-    const std::string upper_floor = building::upperFloorSlab(house.params());
+    const building::Mode* floor_fundamental = building::upperFloorBending(modes, house.params());
     const building::Mode* nearest_mode = nullptr;
-    const building::Mode* floor_fundamental = nullptr;  // the first floor's own (1,1) bending
     for (const auto& m : modes.modes) {
       if (!nearest_mode ||
           std::abs(m.frequency_hz - p1.frequency_hz) < std::abs(nearest_mode->frequency_hz - p1.frequency_hz))
         nearest_mode = &m;
-      if (!floor_fundamental && m.symmetric && m.bending_slab == upper_floor) floor_fundamental = &m;
     }
     const double nearest = nearest_mode ? nearest_mode->frequency_hz : 0.0;
     const double at_excitation = amplitudeAt(*h1, fs, smooth_hz, pg.frequency_hz) / p1.amplitude;

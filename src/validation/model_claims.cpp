@@ -476,13 +476,14 @@ void buildingClaims(const Config& cfg, const ValidationOptions& opt, std::vector
   const building::ModalResult modes = building::modalAnalysis(house);
   const std::string cmd = std::string("railvib_tool building-modes ") + kConfig;
   const building::BuildingParams& hp = house.params();
-  const std::string upper_floor = building::upperFloorSlab(hp);
-  const building::Mode* upper_floor_bending = nullptr;
+  const building::Mode* upper_floor_bending = building::upperFloorBending(modes, hp);
+  // The doubly symmetric modes as computed (with or without the roof slab), not a recorded list.
   int symmetric = 0;
+  std::string symmetric_list;
   for (const auto& m : modes.modes) {
     if (!m.symmetric) continue;
     ++symmetric;
-    if (!upper_floor_bending && !upper_floor.empty() && m.bending_slab == upper_floor) upper_floor_bending = &m;
+    symmetric_list += (symmetric_list.empty() ? "" : ", ") + m.label + " " + fixed(m.frequency_hz, 1) + " Hz";
   }
   {
     const double f = upper_floor_bending ? upper_floor_bending->frequency_hz : 0.0;
@@ -512,16 +513,9 @@ void buildingClaims(const Config& cfg, const ValidationOptions& opt, std::vector
     c.verdict = verdictOf(symmetric == 1);
     c.expected = Verdict::Differs;
     c.command = cmd;
-    // The symmetric modes as computed (with or without the roof slab), not a recorded list.
-    std::string listed;
-    for (const auto& m : modes.modes) {
-      if (!m.symmetric) continue;
-      listed += (listed.empty() ? "" : ", ") + m.label + " " + fixed(m.frequency_hz, 1) + " Hz";
-    }
-    c.cause =
-        std::string(house.params().roof_slab ? "with the roof slab" : "our walls have a free top edge (no roof)") +
-        ": the doubly symmetric modes below 50 Hz are " + listed +
-        "; the paper shows half of a symmetric model and names only the floor mode";
+    c.cause = std::string(hp.roof_slab ? "with the roof slab" : "our walls have a free top edge (no roof)") +
+              ": the doubly symmetric modes below 50 Hz are " + symmetric_list +
+              "; the paper shows half of a symmetric model and names only the floor mode";
     out.push_back(c);
   }
   {
@@ -594,12 +588,10 @@ void buildingClaims(const Config& cfg, const ValidationOptions& opt, std::vector
       c.expected = Verdict::Differs;
       c.command = tf_cmd;
       // The modes named here are those computed, with or without the roof slab.
-      std::string symmetric_list, near_25;
+      std::string near_25;
       double near_25_err = 1e9;
       for (const auto& m : modes.modes) {
-        if (m.symmetric) {
-          symmetric_list += (symmetric_list.empty() ? "" : ", ") + m.label + " " + fixed(m.frequency_hz, 1) + " Hz";
-        } else if (std::abs(m.frequency_hz - 25.0) < near_25_err) {
+        if (!m.symmetric && std::abs(m.frequency_hz - 25.0) < near_25_err) {
           near_25_err = std::abs(m.frequency_hz - 25.0);
           near_25 = m.label + " " + fixed(m.frequency_hz, 1) + " Hz";
         }

@@ -59,6 +59,9 @@ struct ModeDescription {
 /// Mesh group of the paper's "upper floor" (section 3.4; "first floor" in Fig. 14, "upper floor" in Fig. 15):
 /// the slab above the ground floor ("slab_1"), or the roof slab of a one-storey house; empty if there is none.
 std::string upperFloorSlab(const BuildingParams& params);
+/// The upper floor's own first bending (the paper's 15.0 Hz mode): the lowest doubly symmetric mode in
+/// which that slab bends most; nullptr if there is none.
+const Mode* upperFloorBending(const ModalResult& result, const BuildingParams& params);
 
 ModeDescription describeMode(const BuildingModel& model, const Mode& mode, double total_mass_kg);
 
