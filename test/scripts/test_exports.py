@@ -84,7 +84,7 @@ def metrics_message(sensor, i, r):
     return m
 
 
-def export_bag(path, per_sensor_messages=True, drop_one=False):
+def export_bag(path, per_sensor_messages=True, drop_one=False, metrics_of=metrics_message):
     """Sensors and receivers at 1 kHz in blocks of 200, 3 surface and 3 section snapshots, a scenario record."""
     with rosbag.Bag(str(path), "w") as bag:
         t0 = rospy.Time(0, 1)
@@ -136,7 +136,7 @@ def export_bag(path, per_sensor_messages=True, drop_one=False):
             bag.write(names.SECTION_SNAPSHOT, sec, stamp)
         for r in range(2):  # two metrics messages per sensor, the second as of the last sample
             for i, sensor in enumerate(SENSORS):
-                m = metrics_message(sensor, i, r)
+                m = metrics_of(sensor, i, r)
                 bag.write(names.SENSOR_METRICS, m, m.header.stamp)
         bag.write(names.SCENARIO, String(data=yaml.safe_dump({"railvib_version": "test", "config": {"soil": {}}})), t0)
         status = {"status": "closed: all streams complete",
@@ -253,6 +253,28 @@ class Export(unittest.TestCase):
         self.assertEqual(out.returncode, 2)
         self.assertIn("not a railvib bag", out.stderr)
         self.assertNotIn("Traceback", out.stderr)
+
+
+class MetricsBands(unittest.TestCase):
+    def test_bands_that_change_during_the_record_are_said_and_only_the_last_levels_kept(self):
+        def changing(sensor, i, r):
+            m = metrics_message(sensor, i, r)
+            if i == 0 and r == 1:
+                m.third_octave_center_hz, m.third_octave_level_db = [10.0, 12.5], [70.0, 71.0]
+            return m
+        bag = export_bag(WORK / "bands.bag", metrics_of=changing)
+        out = run_script("export.py", bag, WORK / "bands_out", "--what", "csv,mat")
+        self.assertEqual(out.returncode, 0, out.stderr + out.stdout)
+        self.assertIn("metrics of ground_2m: the bands change during the record", out.stderr + out.stdout)
+        with open(WORK / "bands_out" / "csv" / "metrics_ground_2m.csv") as f:
+            header = next(csv.reader(f))
+        self.assertFalse([h for h in header if h.startswith("L_")], header)
+        with open(WORK / "bands_out" / "csv" / "third_octave_levels.csv") as f:
+            ground = [r for r in csv.DictReader(f) if r["sensor"] == "ground_2m"]
+        self.assertEqual([(float(r["center_hz"]), float(r["level_db"])) for r in ground], [(10.0, 70.0), (12.5, 71.0)])
+        import scipy.io
+        mat = scipy.io.loadmat(str(WORK / "bands_out" / "railvib.mat"), squeeze_me=True, struct_as_record=False)
+        self.assertEqual(list(getattr(mat["metrics"], "ground_2m").third_octave_level_db), [70.0, 71.0])
 
 
 class SensorTopics(unittest.TestCase):
