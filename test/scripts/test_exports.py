@@ -543,7 +543,7 @@ class MeasuredImport(unittest.TestCase):
             self.assertIn(message, r.stderr, args)
 
 
-CLASSES = (Export, SensorTopics, Study, MeasuredImport)
+CLASSES = (Export, MetricsBands, SensorTopics, Study, MeasuredImport)
 
 
 if __name__ == "__main__":
