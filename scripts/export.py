@@ -23,9 +23,12 @@ Writes into OUTDIR (default: BAG without .bag + "_export"):
                           t_s [samples x 1], the arrays [samples x channels (x 3)] and the names
                           and `metrics`, a struct per sensor: t_s, the values above [messages x 1],
                           third_octave_center_hz [bands], third_octave_level_db [messages x bands]
-  vtk/surface.pvd       the soil surface's vertical velocity as a VTK time series (one ImageData
-                          file per /surface_snapshot, frame track, m and m/s) that ParaView opens
-  vtk/section.pvd       the vertical section (/section_snapshot) as StructuredGrid files, z up
+  vtk/surface.pvd       the soil surface's velocity as a VTK time series that ParaView opens: one
+                          binary, zlib-compressed VTK XML file (.vtu, written by meshio) per
+                          /surface_snapshot, frame track, m and m/s; point data velocity_m_s
+                          (vx, vy, vz up) and vertical_velocity_m_s (vertical only when the run
+                          recorded soil.output.snapshot_components: vertical)
+  vtk/section.pvd       the vertical section (/section_snapshot) likewise, z up (z = -depth)
   vtk/building_modes.vtk  the house mesh and its fixed-base mode shapes in frame track
                           (railvib_tool building-modes on the scenario recorded in the bag)
 --every N keeps every N-th snapshot (default 1: all). Streams the bag lacks are skipped and said so.
@@ -267,13 +270,6 @@ def write_mat(outdir, streams, metrics):
     say(f"{path}: {', '.join(content)}")
 
 
-def data_array(parent, name, values, components=1):
-    da = ET.SubElement(parent, "DataArray", type="Float32", Name=name, NumberOfComponents=str(components),
-                       format="ascii")
-    da.text = " ".join(repr(float(x)) for x in np.asarray(values, dtype=np.float32).ravel())
-    return da
-
-
 def write_pvd(path, entries):
     """ParaView's collection file: one DataSet per (time_s, relative file)."""
     root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
@@ -283,57 +279,84 @@ def write_pvd(path, entries):
     ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
 
 
+def grid_quads(n_fast, n_slow):
+    """The quadrilaterals of a structured grid of n_fast x n_slow points (fast index first)."""
+    i, j = np.meshgrid(np.arange(n_fast - 1), np.arange(n_slow - 1), indexing="xy")
+    a = (i + n_fast * j).ravel()
+    return np.column_stack([a, a + 1, a + 1 + n_fast, a + n_fast])
+
+
+def point_velocity(topic, m, count):
+    """The snapshot's velocity as VTK point data: vertical_velocity_m_s (up), and velocity_m_s
+    [count x 3] (frame track) when the message carries the horizontal components."""
+    fields = {"vertical_velocity_m_s": np.asarray(m.vertical_velocity_m_s, dtype=np.float32)}
+    vx, vy = (np.asarray(getattr(m, f, []) or [], dtype=np.float32) for f in ("velocity_x_m_s", "velocity_y_m_s"))
+    if len(vx) or len(vy):
+        if len(vx) != count or len(vy) != count:
+            die(f"{topic}: snapshot {m.sample_index} has {len(vx)} / {len(vy)} horizontal values for {count} points")
+        fields["velocity_m_s"] = np.column_stack([vx, vy, fields["vertical_velocity_m_s"]])
+    return fields
+
+
+def write_grid(path, points, quads, point_data):
+    """One snapshot as a VTK XML unstructured grid, binary and zlib-compressed (meshio)."""
+    import meshio  # checked in write_vtk
+    meshio.write(str(path), meshio.Mesh(points, [("quad", quads)], point_data=point_data), file_format="vtu",
+                 binary=True, compression="zlib")
+
+
 def surface_file(path, m):
-    """One /surface_snapshot as VTK ImageData (x fastest, as the message; z = 0, the surface)."""
+    """One /surface_snapshot on the plane z = 0 of frame track (points x fastest, as the message)."""
     nx, ny = m.nx, m.ny
     if len(m.vertical_velocity_m_s) != nx * ny or nx < 1 or ny < 1:
         die(f"{names.SURFACE_SNAPSHOT}: snapshot {m.sample_index} has {len(m.vertical_velocity_m_s)} values "
             f"for a {nx} x {ny} grid")
-    root = ET.Element("VTKFile", type="ImageData", version="0.1", byte_order="LittleEndian")
-    extent = f"0 {nx - 1} 0 {ny - 1} 0 0"
-    img = ET.SubElement(root, "ImageData", WholeExtent=extent, Origin=f"{m.origin_x_m!r} {m.origin_y_m!r} 0",
-                        Spacing=f"{m.spacing_x_m!r} {m.spacing_y_m!r} 1")
-    piece = ET.SubElement(img, "Piece", Extent=extent)
-    pd = ET.SubElement(piece, "PointData", Scalars="vertical_velocity_m_s")
-    data_array(pd, "vertical_velocity_m_s", m.vertical_velocity_m_s)
-    ET.SubElement(piece, "CellData")
-    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+    x = m.origin_x_m + m.spacing_x_m * np.arange(nx)
+    y = m.origin_y_m + m.spacing_y_m * np.arange(ny)
+    xx, yy = np.meshgrid(x, y, indexing="xy")
+    points = np.column_stack([xx.ravel(), yy.ravel(), np.zeros(nx * ny)])
+    write_grid(path, points, grid_quads(nx, ny), point_velocity(names.SURFACE_SNAPSHOT, m, nx * ny))
+    return nx * ny
 
 
 def section_file(path, m):
-    """One /section_snapshot as VTK StructuredGrid on the plane x = x_m (y fastest, then depth; z = -depth)."""
+    """One /section_snapshot on the plane x = x_m (points y fastest, then depth; z = -depth, up)."""
     ny, nz = m.ny, len(m.depth_m)
     if len(m.vertical_velocity_m_s) != ny * nz or ny < 1 or nz < 1:
         die(f"{names.SECTION_SNAPSHOT}: snapshot {m.sample_index} has {len(m.vertical_velocity_m_s)} values "
             f"for {ny} columns x {nz} rows")
-    root = ET.Element("VTKFile", type="StructuredGrid", version="0.1", byte_order="LittleEndian")
-    extent = f"0 0 0 {ny - 1} 0 {nz - 1}"
-    grid = ET.SubElement(root, "StructuredGrid", WholeExtent=extent)
-    piece = ET.SubElement(grid, "Piece", Extent=extent)
     y = m.origin_y_m + m.spacing_y_m * np.arange(ny)
-    points = np.array([(m.x_m, y[j], -m.depth_m[k]) for k in range(nz) for j in range(ny)])
-    data_array(ET.SubElement(piece, "Points"), "Points", points, 3)
-    pd = ET.SubElement(piece, "PointData", Scalars="vertical_velocity_m_s")
-    data_array(pd, "vertical_velocity_m_s", m.vertical_velocity_m_s)
-    ET.SubElement(piece, "CellData")
-    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+    yy, zz = np.meshgrid(y, -np.asarray(m.depth_m, dtype=float), indexing="xy")
+    points = np.column_stack([np.full(ny * nz, m.x_m), yy.ravel(), zz.ravel()])
+    write_grid(path, points, grid_quads(ny, nz), point_velocity(names.SECTION_SNAPSHOT, m, ny * nz))
+    return ny * nz
 
 
 def write_vtk(outdir, bag, every):
+    try:
+        import meshio  # noqa: F401
+    except ImportError:
+        die("--what vtk needs python3-meshio (./railvib setup installs it)")
     d = outdir / "vtk"
     d.mkdir(parents=True, exist_ok=True)
-    for topic, stem, writer, ext in ((names.SURFACE_SNAPSHOT, "surface", surface_file, "vti"),
-                                     (names.SECTION_SNAPSHOT, "section", section_file, "vts")):
-        entries = []
+    for topic, stem in ((names.SURFACE_SNAPSHOT, "surface"), (names.SECTION_SNAPSHOT, "section")):
+        writer = surface_file if stem == "surface" else section_file
+        entries, components = [], set()
         for k, (_, m, _) in enumerate(bag.read_messages(topics=[topic])):
             if k % every:
                 continue
-            file = f"{stem}_{m.sample_index:05d}.{ext}"
+            file = f"{stem}_{m.sample_index:05d}.vtu"
             writer(d / file, m)
+            components.add(3 if len(getattr(m, "velocity_x_m_s", []) or []) else 1)
             entries.append((m.header.stamp.to_sec(), file))
         if entries:
             write_pvd(d / f"{stem}.pvd", entries)
-            say(f"{d / (stem + '.pvd')}: {len(entries)} snapshots, {entries[0][0]:.3f}-{entries[-1][0]:.3f} s")
+            size_mb = sum((d / f).stat().st_size for _, f in entries) / 1e6
+            what = {frozenset({3}): "velocity_m_s (vx, vy, vz) and vertical_velocity_m_s",
+                    frozenset({1}): "vertical_velocity_m_s only (recorded with snapshot_components: vertical)"}
+            say(f"{d / (stem + '.pvd')}: {len(entries)} snapshots, {entries[0][0]:.3f}-{entries[-1][0]:.3f} s, "
+                f"{what.get(frozenset(components), 'vertical_velocity_m_s, velocity_m_s where recorded')}, "
+                f"{size_mb:.1f} MB")
         else:
             say(f"{topic}: not in the bag, no {stem}.pvd")
 

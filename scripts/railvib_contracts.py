@@ -129,6 +129,19 @@ def _spacing(topic, field, value):
     _finite_within(topic, field, value, 1e-9, MAX_TRANSLATION_M, "a grid spacing in m, positive")
 
 
+def _horizontal(topic, m, count, velocity):
+    """The horizontal fields: both empty (a vertical-only snapshot, or a bag recorded before they
+    existed) or both laid out as the vertical."""
+    fields = {f: list(getattr(m, f, []) or []) for f in ("velocity_x_m_s", "velocity_y_m_s")}
+    if not any(fields.values()):
+        return
+    for field, values in fields.items():
+        if len(values) != count:
+            raise Refused(f"topic {topic}: {field} has {len(values)} values, not {count} as vertical_velocity_m_s "
+                          "(or both horizontal fields empty)")
+        _values_within(topic, field, values, velocity)
+
+
 def _surface(topic, m, velocity):
     nx, ny, values = int(m.nx), int(m.ny), m.vertical_velocity_m_s
     if nx < 1 or ny < 1 or nx * ny > MAX_SNAPSHOT_VALUES:
@@ -141,6 +154,7 @@ def _surface(topic, m, velocity):
     for field in ("spacing_x_m", "spacing_y_m"):
         _spacing(topic, field, getattr(m, field))
     _values_within(topic, "vertical_velocity_m_s", values, velocity)
+    _horizontal(topic, m, nx * ny, velocity)
 
 
 def surface_snapshot_problem(topic, msg, velocity_limit_m_s=DEFAULT_VELOCITY_LIMIT_M_S):
@@ -166,6 +180,7 @@ def _section(topic, m, velocity):
             raise Refused(f"topic {topic}: depth_m[{r}] = {d:g}: depths must be finite, >= 0 (m below the surface) "
                           "and increasing")
     _values_within(topic, "vertical_velocity_m_s", values, velocity)
+    _horizontal(topic, m, rows * ny, velocity)
 
 
 def section_snapshot_problem(topic, msg, velocity_limit_m_s=DEFAULT_VELOCITY_LIMIT_M_S):

@@ -126,9 +126,28 @@ void validateMetrics(const std::string& topic, const MetricsFields& m, const Str
   }
 }
 
+namespace {
+// The horizontal fields of a snapshot: both empty (vertical only) or both laid out as the vertical.
+void requireHorizontal(const std::string& topic, const SnapshotHorizontal& horizontal, uint64_t count,
+                       const StreamLimits& limits) {
+  const std::vector<float>* fields[2] = {horizontal.velocity_x_m_s, horizontal.velocity_y_m_s};
+  const char* field_names[2] = {"velocity_x_m_s", "velocity_y_m_s"};
+  const size_t nx_values = fields[0] ? fields[0]->size() : 0, ny_values = fields[1] ? fields[1]->size() : 0;
+  if (nx_values == 0 && ny_values == 0) return;
+  for (int c = 0; c < 2; ++c) {
+    const size_t n = fields[c] ? fields[c]->size() : 0;
+    if (n != count) {
+      refuse(topic, std::string(field_names[c]) + " has " + std::to_string(n) + " values, not " +
+                        std::to_string(count) + " as vertical_velocity_m_s (or both horizontal fields empty)");
+    }
+    requireValuesWithin(topic, field_names[c], *fields[c], limits.velocity_m_s, "limits.velocity_m_s");
+  }
+}
+}  // namespace
+
 void validateSurfaceSnapshot(const std::string& topic, double origin_x_m, double origin_y_m, double spacing_x_m,
                              double spacing_y_m, uint64_t nx, uint64_t ny, const std::vector<float>& values,
-                             const StreamLimits& limits) {
+                             const StreamLimits& limits, const SnapshotHorizontal& horizontal) {
   if (nx < 1 || ny < 1 || nx > kMaxSnapshotValues || ny > kMaxSnapshotValues || nx * ny > kMaxSnapshotValues) {
     refuse(topic, "a " + std::to_string(nx) + " x " + std::to_string(ny) +
                       " grid: nx and ny must be >= 1 with nx x ny <= " + std::to_string(kMaxSnapshotValues));
@@ -142,11 +161,12 @@ void validateSurfaceSnapshot(const std::string& topic, double origin_x_m, double
   requireSpacing(topic, "spacing_x_m", spacing_x_m);
   requireSpacing(topic, "spacing_y_m", spacing_y_m);
   requireValuesWithin(topic, "vertical_velocity_m_s", values, limits.velocity_m_s, "limits.velocity_m_s");
+  requireHorizontal(topic, horizontal, nx * ny, limits);
 }
 
 void validateSectionSnapshot(const std::string& topic, double x_m, double origin_y_m, double spacing_y_m, uint64_t ny,
                              const std::vector<double>& depth_m, const std::vector<float>& values,
-                             const StreamLimits& limits) {
+                             const StreamLimits& limits, const SnapshotHorizontal& horizontal) {
   const uint64_t rows = depth_m.size();
   if (ny < 1 || rows < 1 || ny > kMaxSnapshotValues || rows * ny > kMaxSnapshotValues) {
     refuse(topic, "a section of " + std::to_string(rows) + " depths (depth_m) x ny = " + std::to_string(ny) +
@@ -167,6 +187,7 @@ void validateSectionSnapshot(const std::string& topic, double x_m, double origin
     }
   }
   requireValuesWithin(topic, "vertical_velocity_m_s", values, limits.velocity_m_s, "limits.velocity_m_s");
+  requireHorizontal(topic, horizontal, rows * ny, limits);
 }
 
 void validateTransform(const std::string& topic, const std::string& parent_frame, const std::string& child_frame,

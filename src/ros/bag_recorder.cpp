@@ -353,11 +353,11 @@ std::string BagRecorder::refusal(TopicState& state, const std::string& topic, co
     } else if (state.datatype == ros::message_traits::DataType<railvib::SurfaceSnapshot>::value()) {
       const auto m = deserialized<railvib::SurfaceSnapshot>(bytes);
       validateSurfaceSnapshot(topic, m.origin_x_m, m.origin_y_m, m.spacing_x_m, m.spacing_y_m, m.nx, m.ny,
-                              m.vertical_velocity_m_s, limits_);
+                              m.vertical_velocity_m_s, limits_, {&m.velocity_x_m_s, &m.velocity_y_m_s});
     } else if (state.datatype == ros::message_traits::DataType<railvib::SectionSnapshot>::value()) {
       const auto m = deserialized<railvib::SectionSnapshot>(bytes);
       validateSectionSnapshot(topic, m.x_m, m.origin_y_m, m.spacing_y_m, m.ny, m.depth_m, m.vertical_velocity_m_s,
-                              limits_);
+                              limits_, {&m.velocity_x_m_s, &m.velocity_y_m_s});
     } else if (state.is_tf) {
       for (const auto& t : deserialized<tf2_msgs::TFMessage>(bytes).transforms) {
         const auto& tr = t.transform.translation;

@@ -227,7 +227,8 @@ void SceneVisualizer::onSnapshot(const railvib::SurfaceSnapshot::ConstPtr& snaps
   try {
     validateSurfaceSnapshot(names::kSurfaceSnapshotTopic, snapshot->origin_x_m, snapshot->origin_y_m,
                             snapshot->spacing_x_m, snapshot->spacing_y_m, snapshot->nx, snapshot->ny,
-                            snapshot->vertical_velocity_m_s, limits_);
+                            snapshot->vertical_velocity_m_s, limits_,
+                            {&snapshot->velocity_x_m_s, &snapshot->velocity_y_m_s});
   } catch (const StreamContractError& e) {
     ++refused_snapshots_;
     ROS_WARN_THROTTLE(5.0, "scene_visualizer: snapshot %lu skipped (%lu refused so far): %s",

@@ -246,6 +246,8 @@ void SoilNode::publishOutputs(bool end_of_stream) {
     msg.nx = static_cast<uint32_t>(s.nx_nodes);
     msg.ny = static_cast<uint32_t>(s.ny_nodes);
     msg.vertical_velocity_m_s = s.vz_up_m_s;
+    msg.velocity_x_m_s = s.vx_m_s;
+    msg.velocity_y_m_s = s.vy_m_s;
     snapshot_publisher_.publish(msg);
   }
   for (const auto& s : sections_) {
@@ -259,6 +261,8 @@ void SoilNode::publishOutputs(bool end_of_stream) {
     msg.ny = static_cast<uint32_t>(s.ny_nodes);
     msg.depth_m = s.depth_m;
     msg.vertical_velocity_m_s = s.vz_up_m_s;
+    msg.velocity_x_m_s = s.vx_m_s;
+    msg.velocity_y_m_s = s.vy_m_s;
     section_publisher_.publish(msg);
   }
 }

@@ -101,14 +101,15 @@ SoilModel::SoilModel(const SoilParams& params, const std::vector<double>& sleepe
   rec_now_ = rec_prev_;
   rec_frame_ = rec_prev_;
   snap_steps_ = static_cast<uint64_t>(std::llround(ratio * params_.receiver_rate_hz / params_.snapshot_rate_hz));
+  snap_components_ = params_.snapshot_horizontal ? std::vector<int>{0, 1, 2} : std::vector<int>{2};
   const size_t ns = (m.nx + 1) * (m.ny + 1);
-  surf_prev_.assign(ns, 0.0);
-  surf_acc_.assign(ns, 0.0);
+  surf_prev_.assign(snap_components_.size(), std::vector<double>(ns, 0.0));
+  surf_acc_ = surf_prev_;
   if (params_.section_enabled) {
     section_i_ =
         static_cast<size_t>(std::clamp(std::lround((params_.section_x_m - m.x0) / m.hx), 0L, static_cast<long>(m.nx)));
     section_owned_ = solver_->ownsNodePlane(section_i_);
-    sect_prev_.assign((m.ny + 1) * (m.nz + 1), 0.0);
+    sect_prev_.assign(snap_components_.size(), std::vector<double>((m.ny + 1) * (m.nz + 1), 0.0));
     sect_acc_ = sect_prev_;
   }
 }
@@ -176,7 +177,14 @@ nlohmann::json SoilModel::summary() const {
                       {"vp_m_s", l.material.vp()},
                       {"resolved_hz", l.resolved_hz}});
   }
-  const size_t snapshot_bytes = 3 * (m.nx + 1) * (m.ny + 1) * sizeof(double);
+  // The snapshot averages: previous and sum per component, plus one field read from the solver.
+  auto fieldBytes = [](const std::vector<std::vector<double>>& fields) {
+    size_t n = 0;
+    for (const auto& f : fields) n += f.capacity() * sizeof(double);
+    return n;
+  };
+  const size_t snapshot_bytes = fieldBytes(surf_prev_) + fieldBytes(surf_acc_) + fieldBytes(sect_prev_) +
+                                fieldBytes(sect_acc_) + (m.nx + 1) * (m.ny + 1) * sizeof(double);
   return {{"elements", m.elementCount()},
           {"nodes", m.nodeCount()},
           {"dofs", 3 * m.nodeCount()},
@@ -281,60 +289,75 @@ void SoilModel::recordOutputs() {
   rec_prev_.swap(rec_now_);
   if (rec_decimator_) rec_decimator_->push(rec_frame_.data(), 1, rec_out_);
 
-  // Snapshots: box mean over [t_k - T/2, t_k + T/2) of the vertical (up) velocity.
-  solver_->surfaceVelocityD(surf_now_);
+  // Snapshots: box mean over [t_k - T/2, t_k + T/2) of the velocity, frame track (z up).
   const uint64_t n = solver_->stepCount() - 1;  // the frame just completed stands for t_n
   const uint64_t k = (n + snap_steps_ / 2) / snap_steps_;
-  if (k != snap_count_) {
-    SurfaceSnapshot s;
-    const StructuredMesh& m = solver_->mesh();
-    s.index = snap_count_;
-    s.time_s = static_cast<double>(snap_count_) / params_.snapshot_rate_hz;
-    s.nx_nodes = m.nx + 1;
-    s.ny_nodes = m.ny + 1;
-    s.x0_m = m.x0;
-    s.y0_m = m.y0;
-    s.dx_m = m.hx;
-    s.dy_m = m.hy;
-    s.vz_up_m_s.resize(surf_acc_.size());
-    for (size_t i = 0; i < surf_acc_.size(); ++i) {
-      s.vz_up_m_s[i] = static_cast<float>(surf_acc_[i] / static_cast<double>(snap_acc_n_));
-    }
-    snaps_.push_back(std::move(s));
-    std::fill(surf_acc_.begin(), surf_acc_.end(), 0.0);
-    if (params_.section_enabled) {
-      SectionSnapshot c;
-      c.index = snap_count_;
-      c.time_s = static_cast<double>(snap_count_) / params_.snapshot_rate_hz;
-      c.x_m = m.x(section_i_);
-      c.ny_nodes = m.ny + 1;
-      c.y0_m = m.y0;
-      c.dy_m = m.hy;
-      c.depth_m = m.z;
-      c.vz_up_m_s.resize(sect_acc_.size());
-      for (size_t i = 0; i < sect_acc_.size(); ++i) {
-        c.vz_up_m_s[i] = static_cast<float>(sect_acc_[i] / static_cast<double>(snap_acc_n_));
-      }
-      section_snaps_.push_back(std::move(c));
-      std::fill(sect_acc_.begin(), sect_acc_.end(), 0.0);
-    }
-    snap_acc_n_ = 0;
-    snap_count_ = k;
-  }
-  for (size_t i = 0; i < surf_acc_.size(); ++i) surf_acc_[i] += -0.5 * (surf_prev_[i] + surf_now_[i]);
-  if (params_.section_enabled && section_owned_) {
-    const StructuredMesh& m = solver_->mesh();
-    size_t q = 0;
-    for (size_t k = 0; k <= m.nz; ++k) {
-      for (size_t j = 0; j <= m.ny; ++j, ++q) {
-        const double v_now = solver_->velocity(m.node(section_i_, j, k), 2);
-        sect_acc_[q] += -0.5 * (sect_prev_[q] + v_now);
-        sect_prev_[q] = v_now;
+  if (k != snap_count_) emitSnapshots();
+  snap_count_ = k;
+  const StructuredMesh& m = solver_->mesh();
+  for (size_t q = 0; q < snap_components_.size(); ++q) {
+    const int c = snap_components_[q];
+    const double to_track = c == 2 ? -1.0 : 1.0;  // internal z is down
+    solver_->surfaceVelocity(c, surf_now_);
+    std::vector<double>& prev = surf_prev_[q];
+    std::vector<double>& acc = surf_acc_[q];
+    for (size_t i = 0; i < acc.size(); ++i) acc[i] += to_track * 0.5 * (prev[i] + surf_now_[i]);
+    prev.swap(surf_now_);
+    if (params_.section_enabled && section_owned_) {
+      size_t p = 0;
+      for (size_t kz = 0; kz <= m.nz; ++kz) {
+        for (size_t j = 0; j <= m.ny; ++j, ++p) {
+          const double v_now = solver_->velocity(m.node(section_i_, j, kz), c);
+          sect_acc_[q][p] += to_track * 0.5 * (sect_prev_[q][p] + v_now);
+          sect_prev_[q][p] = v_now;
+        }
       }
     }
   }
   ++snap_acc_n_;
-  surf_prev_.swap(surf_now_);
+}
+
+namespace {
+// The mean of an accumulated field, into the snapshot's field of the same component; the sum restarts.
+void takeMean(std::vector<double>& acc, uint64_t count, int component, std::vector<float>& vx, std::vector<float>& vy,
+              std::vector<float>& vz) {
+  std::vector<float>& out = component == 0 ? vx : component == 1 ? vy : vz;
+  out.resize(acc.size());
+  for (size_t i = 0; i < acc.size(); ++i) out[i] = static_cast<float>(acc[i] / static_cast<double>(count));
+  std::fill(acc.begin(), acc.end(), 0.0);
+}
+}  // namespace
+
+void SoilModel::emitSnapshots() {
+  const StructuredMesh& m = solver_->mesh();
+  SurfaceSnapshot s;
+  s.index = snap_count_;
+  s.time_s = static_cast<double>(snap_count_) / params_.snapshot_rate_hz;
+  s.nx_nodes = m.nx + 1;
+  s.ny_nodes = m.ny + 1;
+  s.x0_m = m.x0;
+  s.y0_m = m.y0;
+  s.dx_m = m.hx;
+  s.dy_m = m.hy;
+  for (size_t q = 0; q < snap_components_.size(); ++q) {
+    takeMean(surf_acc_[q], snap_acc_n_, snap_components_[q], s.vx_m_s, s.vy_m_s, s.vz_up_m_s);
+  }
+  snaps_.push_back(std::move(s));
+  if (params_.section_enabled) {
+    SectionSnapshot c;
+    c.index = snap_count_;
+    c.time_s = static_cast<double>(snap_count_) / params_.snapshot_rate_hz;
+    c.x_m = m.x(section_i_);
+    c.ny_nodes = m.ny + 1;
+    c.y0_m = m.y0;
+    c.dy_m = m.hy;
+    c.depth_m = m.z;
+    for (size_t q = 0; q < snap_components_.size(); ++q) {
+      takeMean(sect_acc_[q], snap_acc_n_, snap_components_[q], c.vx_m_s, c.vy_m_s, c.vz_up_m_s);
+    }
+    section_snaps_.push_back(std::move(c));
+  }
+  snap_acc_n_ = 0;
 }
 
 void SoilModel::finishOutputs() {
@@ -374,7 +397,11 @@ bool SoilModel::spread() const { return !solver_->partition().single(); }
 
 void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
   for (auto& s : snaps_) {
-    if (spread()) solver_->comm().sumToRoot(s.vz_up_m_s.data(), s.vz_up_m_s.size());
+    if (spread()) {
+      for (std::vector<float>* field : {&s.vx_m_s, &s.vy_m_s, &s.vz_up_m_s}) {
+        if (!field->empty()) solver_->comm().sumToRoot(field->data(), field->size());
+      }
+    }
     out.push_back(std::move(s));
   }
   snaps_.clear();
@@ -382,7 +409,11 @@ void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
 
 void SoilModel::takeSectionSnapshots(std::vector<SectionSnapshot>& out) {
   for (auto& s : section_snaps_) {
-    if (spread()) solver_->comm().sumToRoot(s.vz_up_m_s.data(), s.vz_up_m_s.size());
+    if (spread()) {
+      for (std::vector<float>* field : {&s.vx_m_s, &s.vy_m_s, &s.vz_up_m_s}) {
+        if (!field->empty()) solver_->comm().sumToRoot(field->data(), field->size());
+      }
+    }
     out.push_back(std::move(s));
   }
   section_snaps_.clear();

@@ -142,6 +142,7 @@ void readOutputAndLoads(const ConfigNode& soil, SoilParams& p) {
   if (std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1.0) {
     out.fail("snapshot_rate_hz", "must divide receiver_rate_hz into an integer ratio >= 1");
   }
+  p.snapshot_horizontal = out.choice("snapshot_components", {"all", "vertical"}, "all") == "all";
   p.solver.align_rate_hz = p.receiver_rate_hz;
   if (out.has("section")) {
     const ConfigNode section = out.section("section");

@@ -711,19 +711,20 @@ void Solver::displacementAt(double x, double y, double d, double out[3]) const {
   }
 }
 
-void Solver::surfaceVelocityD(std::vector<double>& out) const {
+void Solver::surfaceVelocity(int component, std::vector<double>& out) const {
+  if (component < 0 || component > 2) throw std::invalid_argument("Solver::surfaceVelocity: component not 0, 1 or 2");
   const StructuredMesh& g = global_mesh_;
   if (partition_.single()) {
     const size_t ns = (g.nx + 1) * (g.ny + 1);
     out.resize(ns);
-    for (size_t i = 0; i < ns; ++i) out[i] = impl_->get(1, i, 2);
+    for (size_t i = 0; i < ns; ++i) out[i] = impl_->get(1, i, component);
     return;
   }
   out.assign((g.nx + 1) * (g.ny + 1), 0.0);
   const size_t b = partition_.begin();
   for (size_t j = 0; j <= g.ny; ++j) {
     for (size_t i = b; i <= partition_.end(); ++i) {
-      if (partition_.ownsNodePlane(i)) out[g.node(i, j, 0)] = impl_->get(1, mesh_.node(i - b, j, 0), 2);
+      if (partition_.ownsNodePlane(i)) out[g.node(i, j, 0)] = impl_->get(1, mesh_.node(i - b, j, 0), component);
     }
   }
 }

@@ -156,7 +156,7 @@ Result run(const Case& c, std::shared_ptr<SoilComm> comm) {
                         1.0e4 * std::min(1.0, t / 0.02) * std::sin(2.0 * M_PI * 15.0 * t + 0.3),
                         -0.8e4 * std::min(1.0, t / 0.01) * std::sin(2.0 * M_PI * 25.0 * t)});
     s.step();
-    s.surfaceVelocityD(surf);
+    s.surfaceVelocity(2, surf);
     s.comm().sumToRoot(surf.data(), surf.size());
     r.surface_history.insert(r.surface_history.end(), surf.begin(), surf.end());
   }
@@ -374,8 +374,15 @@ TEST(SoilMpi, SoilModelOutputsGatherOnRankZero) {
     o.rec.insert(o.rec.end(), rb.velocity_m_s.begin(), rb.velocity_m_s.end());
     m.takeSnapshots(snaps);
     m.takeSectionSnapshots(sections);
-    for (const auto& s : snaps) o.snaps.insert(o.snaps.end(), s.vz_up_m_s.begin(), s.vz_up_m_s.end());
-    for (const auto& s : sections) o.sections.insert(o.sections.end(), s.vz_up_m_s.begin(), s.vz_up_m_s.end());
+    // All three components (vx, vy, vz up), each summed over the ranks.
+    for (const auto& s : snaps) {
+      for (const auto* f : {&s.vx_m_s, &s.vy_m_s, &s.vz_up_m_s}) o.snaps.insert(o.snaps.end(), f->begin(), f->end());
+    }
+    for (const auto& s : sections) {
+      for (const auto* f : {&s.vx_m_s, &s.vy_m_s, &s.vz_up_m_s}) {
+        o.sections.insert(o.sections.end(), f->begin(), f->end());
+      }
+    }
     o.snap_count = snaps.size();
     o.section_count = sections.size();
     return o;

@@ -455,16 +455,19 @@ def cases():
                (metrics, message(metrics_message, sensor="ghost")), (metrics, message(metrics_message, verdict=7)),
                (snap, message(snapshot_message)), (snap, message(snapshot_message, nx=1000)),
                (snap, message(snapshot_message, spacing_x_m=0.0)), (WRONG_TYPE, message(snapshot_message)),
+               (snap, message(snapshot_message, velocity_x_m_s=[1e-5] * 4, velocity_y_m_s=[-1e-5] * 4)),
+               (snap, message(snapshot_message, velocity_x_m_s=[1e-5] * 4)),
                ("/tf", message(tf_message)), ("/tf", message(tf_message, rotation=(0.0, 0.0, 0.0, 0.0))),
                ("/tf", message(tf_message, translation=(nan, 0.0, 0.0)))]
     C.append(("recorder", "foreign metrics, snapshots and transforms beside a valid stream (control)", {},
               [(cf, plain(contact_block, 0, 50))] + foreign + [(cf, plain(contact_block, 50, 50, True))], "finished",
               "all streams complete",
               {"topics": [metrics, snap, names.SECTION_SNAPSHOT], "tf_topics": ["/tf"],
-               "recorded": {metrics: 1, snap: 1, "/tf": 1, names.SECTION_SNAPSHOT: 0},
-               "refused": {metrics: 3, snap: 2, names.SECTION_SNAPSHOT: 1, "/tf": 2},
+               "recorded": {metrics: 1, snap: 2, "/tf": 1, names.SECTION_SNAPSHOT: 0},
+               "refused": {metrics: 3, snap: 3, names.SECTION_SNAPSHOT: 1, "/tf": 2},
                "fragments": ["kb_f = nan", "sensor_name 'ghost' is not a sensor of the scenario", "verdict = 7",
-                             "nx x ny = 1000 x 2", "spacing_x_m = 0", "a railvib/SurfaceSnapshot (MD5",
+                             "nx x ny = 1000 x 2", "spacing_x_m = 0", "velocity_y_m_s has 0 values",
+                             "a railvib/SurfaceSnapshot (MD5",
                              "quaternion has norm 0", "translation.x = nan", "/node_fuzz"]}))
     return C
 

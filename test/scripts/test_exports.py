@@ -2,9 +2,10 @@
 """Tests of the exports and the study driver (run by CTest in the workspace environment):
 
 - export.py: every sample of every stream is one CSV row with the bag's doubles read back exactly;
-  the .mat file holds the same arrays; the surface and section snapshots become VTK files whose grid
-  (origin, spacing, x-fastest order, z = -depth) and values are the messages', indexed by a .pvd
-  whose time steps are the snapshot stamps; a foreign bag is refused;
+  the .mat file holds the same arrays; the surface and section snapshots become binary compressed
+  VTK files (meshio) whose grid (origin, spacing, x-fastest order, z = -depth) and values (three
+  components when recorded, the vertical alone otherwise) are the messages', indexed by a .pvd whose
+  time steps are the snapshot stamps; a foreign bag is refused;
 - bag_check.py: a per-sensor topic that lost a message is a finding, one of another type is refused;
 - study.py: a grid is every combination; each run gets its launch arguments and a config file with
   its dotted keys over the base; the table holds each run's recorded metrics; a failed run fails the
@@ -127,6 +128,9 @@ def export_bag(path, per_sensor_messages=True, drop_one=False, metrics_of=metric
             snap.nx, snap.ny = 5, 4
             # Values of a ground's size (mm/s), exact in float32: SNAP_SCALE x (s + i + 10 j).
             snap.vertical_velocity_m_s = [SNAP_SCALE * (s + i + 10 * j) for j in range(4) for i in range(5)]  # x fastest
+            # The horizontal components (frame track): vx = -2 x vz, vy = 3 x vz, each exact in float32.
+            snap.velocity_x_m_s = [-2.0 * v for v in snap.vertical_velocity_m_s]
+            snap.velocity_y_m_s = [3.0 * v for v in snap.vertical_velocity_m_s]
             bag.write(names.SURFACE_SNAPSHOT, snap, stamp)
             sec = rm.SectionSnapshot()
             sec.header.stamp = stamp
@@ -217,33 +221,46 @@ class Export(unittest.TestCase):
         self.assertEqual(list(ground.third_octave_center_hz), BANDS_HZ)
         self.assertEqual(list(ground.verdict), ["not applicable"] * 2)
 
-    def test_the_surface_series_is_vtk_image_data_at_the_snapshot_times(self):
+    def test_the_surface_series_is_compressed_vtk_with_three_components_at_the_snapshot_times(self):
+        import meshio
         pvd = ET.parse(self.out / "vtk" / "surface.pvd").getroot()
         self.assertEqual(pvd.get("type"), "Collection")
         sets = pvd.find("Collection").findall("DataSet")
         self.assertEqual([float(d.get("timestep")) for d in sets], [0.1, 0.2, 0.3])
         for s, d in enumerate(sets):
-            img = ET.parse(self.out / "vtk" / d.get("file")).getroot()
-            self.assertEqual(img.get("type"), "ImageData")
-            grid = img.find("ImageData")
-            self.assertEqual(grid.get("WholeExtent"), "0 4 0 3 0 0")
-            self.assertEqual([float(x) for x in grid.get("Origin").split()], [-2.0, 1.0, 0.0])
-            self.assertEqual([float(x) for x in grid.get("Spacing").split()][:2], [0.5, 0.25])
-            values = [float(x) for x in grid.find("Piece/PointData/DataArray").text.split()]
-            # VTK's point order is x fastest: point (i, j) is values[i + 5 j].
-            self.assertAlmostEqual(values[3 + 5 * 2], SNAP_SCALE * (s + 3 + 10 * 2), delta=1e-6 * SNAP_SCALE * 23)
+            path = self.out / "vtk" / d.get("file")
+            head = path.read_bytes()[:400].decode("latin-1")
+            self.assertIn('type="UnstructuredGrid"', head)
+            self.assertIn("vtkZLibDataCompressor", head)  # binary and compressed, not ASCII
+            grid = meshio.read(str(path))
+            self.assertEqual(grid.points.shape, (20, 3))
+            self.assertEqual(grid.cells_dict["quad"].shape, (4 * 3, 4))
+            # Point (i, j) = (3, 2) is the message's value [3 + 5 x 2] (x fastest), at (-2 + 1.5, 1 + 0.5, 0).
+            p = 3 + 5 * 2
+            self.assertEqual(list(grid.points[p]), [-0.5, 1.5, 0.0])
+            vz = SNAP_SCALE * (s + 3 + 10 * 2)
+            self.assertAlmostEqual(float(grid.point_data["vertical_velocity_m_s"][p]), vz, delta=1e-6 * abs(vz))
+            np.testing.assert_allclose(grid.point_data["velocity_m_s"][p], [-2.0 * vz, 3.0 * vz, vz], rtol=1e-6)
+            # Every quad is a cell of the grid: its corners one spacing apart, counter-clockwise seen from z up.
+            for quad in grid.cells_dict["quad"]:
+                c = grid.points[quad]
+                np.testing.assert_allclose(c[1] - c[0], [0.5, 0.0, 0.0])
+                np.testing.assert_allclose(c[3] - c[0], [0.0, 0.25, 0.0])
+                np.testing.assert_allclose(c[2] - c[0], [0.5, 0.25, 0.0])
 
-    def test_the_section_series_is_a_structured_grid_with_z_up(self):
+    def test_the_section_series_is_a_grid_with_z_up_and_the_vertical_alone_when_recorded_so(self):
+        import meshio
         sets = ET.parse(self.out / "vtk" / "section.pvd").getroot().find("Collection").findall("DataSet")
         self.assertEqual(len(sets), 3)
-        grid = ET.parse(self.out / "vtk" / sets[2].get("file")).getroot().find("StructuredGrid")
-        self.assertEqual(grid.get("WholeExtent"), "0 0 0 2 0 2")
-        points = np.array([float(x) for x in grid.find("Piece/Points/DataArray").text.split()]).reshape(-1, 3)
-        values = [float(x) for x in grid.find("Piece/PointData/DataArray").text.split()]
+        grid = meshio.read(str(self.out / "vtk" / sets[2].get("file")))
         # Point (j = 1, row r = 2): y = -3 + 1.5, z = -1.5 (depth 1.5 m), value SNAP_SCALE x (2 + 1 + 200).
         p = 1 + 3 * 2
-        self.assertEqual(list(points[p]), [0.0, -1.5, -1.5])
-        self.assertAlmostEqual(values[p], SNAP_SCALE * (2 + 1 + 200), delta=1e-6 * SNAP_SCALE * 203)
+        self.assertEqual(list(grid.points[p]), [0.0, -1.5, -1.5])
+        self.assertAlmostEqual(float(grid.point_data["vertical_velocity_m_s"][p]), SNAP_SCALE * (2 + 1 + 200),
+                               delta=1e-6 * SNAP_SCALE * 203)
+        # The test bag's sections carry the vertical only (snapshot_components: vertical).
+        self.assertNotIn("velocity_m_s", grid.point_data)
+        self.assertIn("vertical_velocity_m_s only", self.result.stdout)
 
     def test_a_foreign_bag_is_refused(self):
         foreign = WORK / "foreign.bag"

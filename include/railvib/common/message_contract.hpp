@@ -59,17 +59,25 @@ inline constexpr double kQuaternionNormTolerance = 1.0e-3;
 void validateMetrics(const std::string& topic, const MetricsFields& m, const StreamLimits& limits,
                      const std::vector<std::string>& known_sensors);
 
+/// A snapshot's horizontal velocity fields (velocity_x_m_s, velocity_y_m_s; null = empty).
+struct SnapshotHorizontal {
+  const std::vector<float>* velocity_x_m_s = nullptr;
+  const std::vector<float>* velocity_y_m_s = nullptr;
+};
+
 /// A surface snapshot: nx, ny >= 1, nx * ny <= kMaxSnapshotValues and equal to the values' count,
-/// origin finite, spacing finite and positive, every value finite with |v| <= limits.velocity_m_s.
+/// origin finite, spacing finite and positive, every value finite with |v| <= limits.velocity_m_s;
+/// the horizontal fields both empty, or both as many values as the vertical and bounded alike.
 void validateSurfaceSnapshot(const std::string& topic, double origin_x_m, double origin_y_m, double spacing_x_m,
                              double spacing_y_m, uint64_t nx, uint64_t ny, const std::vector<float>& values,
-                             const StreamLimits& limits);
+                             const StreamLimits& limits, const SnapshotHorizontal& horizontal);
 
 /// A section snapshot: ny >= 1, depths finite, non-negative and increasing, depths x ny values
-/// (within kMaxSnapshotValues), x and origin finite, spacing positive, values bounded as above.
+/// (within kMaxSnapshotValues), x and origin finite, spacing positive, values and horizontal
+/// fields as above.
 void validateSectionSnapshot(const std::string& topic, double x_m, double origin_y_m, double spacing_y_m, uint64_t ny,
                              const std::vector<double>& depth_m, const std::vector<float>& values,
-                             const StreamLimits& limits);
+                             const StreamLimits& limits, const SnapshotHorizontal& horizontal);
 
 /// One transform: both frame names non-empty and different, translation finite within
 /// kMaxTranslationM, rotation a finite unit quaternion (|q| within kQuaternionNormTolerance of 1).

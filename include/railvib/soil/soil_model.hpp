@@ -45,16 +45,20 @@ struct ReceiverBlock {
   size_t frames() const { return names.empty() ? 0 : velocity_m_s.size() / (3 * names.size()); }
 };
 
+/// The surface's velocity at the snapshot rate, box-averaged in time over [t - T/2, t + T/2).
+/// Frame track: vx_m_s along the track, vy_m_s across it, vz_up_m_s up. The horizontal fields are
+/// empty when soil.output.snapshot_components is "vertical".
 struct SurfaceSnapshot {
   uint64_t index = 0;
   double time_s = 0.0;
   size_t nx_nodes = 0, ny_nodes = 0;  // x fastest
   double x0_m = 0.0, y0_m = 0.0, dx_m = 0.0, dy_m = 0.0;
-  std::vector<float> vz_up_m_s;
+  std::vector<float> vx_m_s, vy_m_s, vz_up_m_s;
 };
 
-/// Vertical (up) velocity on the vertical plane x = x_m (the node plane nearest to it) across the
-/// whole box: y fastest, then depth; box-averaged in time like SurfaceSnapshot (paper, Fig. 16).
+/// The velocity on the vertical plane x = x_m (the node plane nearest to it) across the whole box:
+/// y fastest, then depth; box-averaged in time and with the same components as SurfaceSnapshot
+/// (paper, Fig. 16).
 struct SectionSnapshot {
   uint64_t index = 0;
   double time_s = 0.0;
@@ -62,7 +66,7 @@ struct SectionSnapshot {
   size_t ny_nodes = 0;
   double y0_m = 0.0, dy_m = 0.0;
   std::vector<double> depth_m;  // node plane depths (m, down), one per row
-  std::vector<float> vz_up_m_s;
+  std::vector<float> vx_m_s, vy_m_s, vz_up_m_s;
 };
 
 /// The mesh's inclusions as meshed (name, kind, elements, how far snapping moved a face, the box in
@@ -141,6 +145,7 @@ class SoilModel {
 
  private:
   void recordOutputs();
+  void emitSnapshots();
   bool spread() const;
 
   SoilParams params_;
@@ -158,11 +163,15 @@ class SoilModel {
   bool section_owned_ = true;
   std::vector<double> rec_prev_, rec_now_, rec_frame_, rec_out_;
   uint64_t rec_out_first_ = 0;
-  std::vector<double> surf_prev_, surf_now_, surf_acc_;
+  // Snapshot averages, one block per recorded component (snap_components_: the solver's components,
+  // internal frame with z down; {2} or {0, 1, 2}).
+  std::vector<int> snap_components_;
+  std::vector<double> surf_now_;
+  std::vector<std::vector<double>> surf_prev_, surf_acc_;
   uint64_t snap_steps_ = 0, snap_count_ = 0, snap_acc_n_ = 0;
   std::vector<SurfaceSnapshot> snaps_;
   size_t section_i_ = 0;
-  std::vector<double> sect_prev_, sect_acc_;
+  std::vector<std::vector<double>> sect_prev_, sect_acc_;
   std::vector<SectionSnapshot> section_snaps_;
   std::vector<double> channel_values_, load_eval_, first_frame_, shifted_;
   double load_t_offset_ = 0.0;

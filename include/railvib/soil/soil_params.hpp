@@ -34,6 +34,9 @@ struct SoilParams {
   double max_memory_gb = 12.0;
   double receiver_rate_hz = 1000.0;
   double snapshot_rate_hz = 100.0;
+  /// Snapshots carry the horizontal velocity too (soil.output.snapshot_components: all), or the
+  /// vertical only ("vertical": a third of the snapshot bytes in a bag).
+  bool snapshot_horizontal = true;
   /// Vertical section x = section_x_m recorded at the snapshot rate (paper, Fig. 16), if enabled.
   bool section_enabled = false;
   double section_x_m = 0.0;

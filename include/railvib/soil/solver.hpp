@@ -161,9 +161,10 @@ class Solver {
   /// Trilinear interpolation of the half-step velocity at a point (x, y, depth).
   void velocityAt(double x, double y, double d, double out[3]) const;
   void displacementAt(double x, double y, double d, double out[3]) const;
-  /// Vertical (down) half-step velocity of every surface node of the whole mesh, (nx+1)(ny+1) values,
-  /// i fastest; 0 at the nodes this rank does not own (a sum over the ranks gives the field).
-  void surfaceVelocityD(std::vector<double>& out) const;
+  /// Half-step velocity component (0 x, 1 y, 2 z down; internal frame) of every surface node of the
+  /// whole mesh, (nx+1)(ny+1) values, i fastest; 0 at the nodes this rank does not own (a sum over
+  /// the ranks gives the field).
+  void surfaceVelocity(int component, std::vector<double>& out) const;
 
   /// Internal force -K u of the kernel's elements for the current displacement (tests: equilibrium, eigen).
   void internalForce(std::vector<double>& f_out) const;

@@ -87,14 +87,20 @@ std::string verdictOf(const std::string& kind, const json& m, const railvib::Str
       f.din4150_3_verdict = m["din4150_3_verdict"].get<uint32_t>();
       f.verdict = m["verdict"].get<uint32_t>();
       railvib::validateMetrics("/sensor_metrics", f, limits, sensors);
-    } else if (kind == "surface") {
-      railvib::validateSurfaceSnapshot("/surface_snapshot", number(m["origin_x_m"]), number(m["origin_y_m"]),
-                                       number(m["spacing_x_m"]), number(m["spacing_y_m"]), m["nx"].get<uint64_t>(),
-                                       m["ny"].get<uint64_t>(), floats(m["vertical_velocity_m_s"]), limits);
-    } else if (kind == "section") {
-      railvib::validateSectionSnapshot("/section_snapshot", number(m["x_m"]), number(m["origin_y_m"]),
-                                       number(m["spacing_y_m"]), m["ny"].get<uint64_t>(), numbers(m["depth_m"]),
-                                       floats(m["vertical_velocity_m_s"]), limits);
+    } else if (kind == "surface" || kind == "section") {
+      // The horizontal fields are optional in the table (absent: empty, as a vertical-only snapshot).
+      const std::vector<float> vx = m.contains("velocity_x_m_s") ? floats(m["velocity_x_m_s"]) : std::vector<float>{};
+      const std::vector<float> vy = m.contains("velocity_y_m_s") ? floats(m["velocity_y_m_s"]) : std::vector<float>{};
+      if (kind == "surface") {
+        railvib::validateSurfaceSnapshot("/surface_snapshot", number(m["origin_x_m"]), number(m["origin_y_m"]),
+                                         number(m["spacing_x_m"]), number(m["spacing_y_m"]), m["nx"].get<uint64_t>(),
+                                         m["ny"].get<uint64_t>(), floats(m["vertical_velocity_m_s"]), limits,
+                                         {&vx, &vy});
+      } else {
+        railvib::validateSectionSnapshot("/section_snapshot", number(m["x_m"]), number(m["origin_y_m"]),
+                                         number(m["spacing_y_m"]), m["ny"].get<uint64_t>(), numbers(m["depth_m"]),
+                                         floats(m["vertical_velocity_m_s"]), limits, {&vx, &vy});
+      }
     } else if (kind == "transform") {
       const std::vector<double> t = numbers(m["translation_m"]), q = numbers(m["rotation_xyzw"]);
       railvib::validateTransform("/tf", m["parent"].get<std::string>(), m["child"].get<std::string>(), t.data(),
@@ -173,7 +179,7 @@ TEST(MessageContract, SurfaceSnapshotMutationFuzz) {
     for (float x : v) whole = whole && std::fabs(x) <= limits.velocity_m_s;
     bool accepted = true;
     try {
-      railvib::validateSurfaceSnapshot("/surface_snapshot", ox, oy, sx, sy, nx, ny, v, limits);
+      railvib::validateSurfaceSnapshot("/surface_snapshot", ox, oy, sx, sy, nx, ny, v, limits, {});
     } catch (const railvib::StreamContractError& e) {
       accepted = false;
       ++refused;

@@ -177,13 +177,16 @@ TEST(SoilModel, FinishRunEndsOneStepPastTheLastLoadWhateverTheRounding) {
 }
 
 // The vertical section (paper, Fig. 16) and the surface snapshots are two views of one field: the
-// section's surface row equals the surface snapshot's column at the section's x, and a load on the
-// track axis gives a section symmetric in y about it.
-TEST(SoilModel, SectionSnapshotsAgreeWithTheSurfaceAndAreSymmetric) {
+// section's surface row equals the surface snapshot's column at the section's x, component by
+// component, and a load on the track axis of a box symmetric in x and y gives mirror symmetry:
+// vz and vx even in y, vy odd in y (the horizontal motion points away from the load on both sides);
+// on the surface vx is odd in x about the load, vy and vz even.
+TEST(SoilModel, SnapshotsAreOneThreeComponentFieldWithTheLoadsMirrorSymmetry) {
   SoilParams p = smallParams(railvib::soil::testing::smallScenario());
   p.section_enabled = true;
   p.section_x_m = 0.0;
   p.receivers.clear();
+  ASSERT_TRUE(p.snapshot_horizontal);  // the default: all three components
   const std::vector<double> xs = {0.0};
   SoilModel m(p, xs, 2000.0);
   std::vector<double> loads(201);
@@ -198,23 +201,64 @@ TEST(SoilModel, SectionSnapshotsAgreeWithTheSurfaceAndAreSymmetric) {
   ASSERT_EQ(surf.size(), sect.size());
   ASSERT_GT(sect.size(), 5u);
   const StructuredMesh& mesh = m.solver().mesh();
+  ASSERT_NEAR(mesh.x0, -mesh.xMax(), 1e-12);  // the mirror in x below needs a box symmetric about the load
+  ASSERT_NEAR(mesh.y0, -mesh.yMax(), 1e-12);
   const size_t i = static_cast<size_t>(std::lround((0.0 - mesh.x0) / mesh.hx));
-  double peak = 0.0, asym = 0.0;
-  for (size_t s = 0; s < sect.size(); ++s) {
-    ASSERT_EQ(sect[s].index, surf[s].index);
-    ASSERT_EQ(sect[s].vz_up_m_s.size(), (mesh.ny + 1) * (mesh.nz + 1));
-    for (size_t j = 0; j <= mesh.ny; ++j) {
-      EXPECT_EQ(sect[s].vz_up_m_s[j], surf[s].vz_up_m_s[j * (mesh.nx + 1) + i]);
-      for (size_t k = 0; k <= mesh.nz; ++k) {
-        const float v = sect[s].vz_up_m_s[k * (mesh.ny + 1) + j];
-        const float mirror = sect[s].vz_up_m_s[k * (mesh.ny + 1) + (mesh.ny - j)];
-        peak = std::max(peak, static_cast<double>(std::abs(v)));
-        asym = std::max(asym, static_cast<double>(std::abs(v - mirror)));
+  const size_t nsx = mesh.nx + 1, nsy = mesh.ny + 1;
+  struct Component {
+    const char* name;
+    std::vector<float> SurfaceSnapshot::*surface;
+    std::vector<float> SectionSnapshot::*section;
+    double parity_y, parity_x;  // +1 even, -1 odd
+  };
+  const Component components[] = {{"vx", &SurfaceSnapshot::vx_m_s, &SectionSnapshot::vx_m_s, 1.0, -1.0},
+                                  {"vy", &SurfaceSnapshot::vy_m_s, &SectionSnapshot::vy_m_s, -1.0, 1.0},
+                                  {"vz", &SurfaceSnapshot::vz_up_m_s, &SectionSnapshot::vz_up_m_s, 1.0, 1.0}};
+  double peak_vz = 0.0;
+  for (const Component& c : components) {
+    double peak = 0.0, asym = 0.0;
+    for (size_t s = 0; s < sect.size(); ++s) {
+      ASSERT_EQ(sect[s].index, surf[s].index);
+      const std::vector<float>& plane = sect[s].*c.section;
+      const std::vector<float>& top = surf[s].*c.surface;
+      ASSERT_EQ(plane.size(), nsy * (mesh.nz + 1)) << c.name;
+      ASSERT_EQ(top.size(), nsx * nsy) << c.name;
+      for (size_t j = 0; j < nsy; ++j) {
+        EXPECT_EQ(plane[j], top[j * nsx + i]) << c.name;
+        for (size_t k = 0; k <= mesh.nz; ++k) {
+          const double v = plane[k * nsy + j], mirror = plane[k * nsy + (nsy - 1 - j)];
+          peak = std::max(peak, std::abs(v));
+          asym = std::max(asym, std::abs(v - c.parity_y * mirror));
+        }
+        for (size_t ix = 0; ix < nsx; ++ix) {
+          const double v = top[j * nsx + ix], mirror = top[j * nsx + (nsx - 1 - ix)];
+          peak = std::max(peak, std::abs(v));
+          asym = std::max(asym, std::abs(v - c.parity_x * mirror));
+        }
       }
     }
+    if (c.parity_y > 0.0 && c.parity_x > 0.0) peak_vz = peak;
+    EXPECT_GT(peak, 1e-6) << c.name;
+    EXPECT_LT(asym, 1e-4 * std::max(peak, peak_vz)) << c.name;
   }
-  EXPECT_GT(peak, 1e-6);
-  EXPECT_LT(asym, 1e-4 * peak);  // the box is symmetric about y = 0 (y in [-4, 4])
+
+  // Vertical only: the same vertical field, no horizontal ones.
+  p.snapshot_horizontal = false;
+  SoilModel vertical(p, xs, 2000.0);
+  vertical.pushLoads(0, loads.data(), loads.size());
+  vertical.finishLoads();
+  vertical.finishRun(0.1, 0.05);
+  std::vector<SurfaceSnapshot> surf_v;
+  std::vector<SectionSnapshot> sect_v;
+  vertical.takeSnapshots(surf_v);
+  vertical.takeSectionSnapshots(sect_v);
+  ASSERT_EQ(surf_v.size(), surf.size());
+  for (size_t s = 0; s < surf.size(); ++s) {
+    EXPECT_EQ(surf_v[s].vz_up_m_s, surf[s].vz_up_m_s);
+    EXPECT_EQ(sect_v[s].vz_up_m_s, sect[s].vz_up_m_s);
+    EXPECT_TRUE(surf_v[s].vx_m_s.empty() && surf_v[s].vy_m_s.empty());
+    EXPECT_TRUE(sect_v[s].vx_m_s.empty() && sect_v[s].vy_m_s.empty());
+  }
 }
 
 // A value shared with other domains is read by its own loader only: a bad one is refused by the soil

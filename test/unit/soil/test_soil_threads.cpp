@@ -118,7 +118,7 @@ RunResult run(int threads, Precision precision, KernelKind kernel = KernelKind::
     const double b = 1.0e4 * std::min(1.0, t / 0.02) * std::sin(2.0 * M_PI * 15.0 * t + 0.3);
     s.setChannelValues({a, b});
     s.step();
-    s.surfaceVelocityD(surf);
+    s.surfaceVelocity(2, surf);
     r.surface_history.insert(r.surface_history.end(), surf.begin(), surf.end());
   }
   for (size_t i = 0; i < m.nodeCount(); ++i) {
