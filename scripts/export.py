@@ -26,8 +26,8 @@ Writes into OUTDIR (default: BAG without .bag + "_export"):
   vtk/surface.pvd       the soil surface's velocity as a VTK time series that ParaView opens: one
                           binary, zlib-compressed VTK XML file (.vtu, written by meshio) per
                           /surface_snapshot, frame track, m and m/s; point data velocity_m_s
-                          (vx, vy, vz up) and vertical_velocity_m_s (vertical only when the run
-                          recorded soil.output.snapshot_components: vertical)
+                          (vx, vy, vz up), or vertical_velocity_m_s alone when the run recorded
+                          soil.output.snapshot_components: vertical
   vtk/section.pvd       the vertical section (/section_snapshot) likewise, z up (z = -depth)
   vtk/building_modes.vtk  the house mesh and its fixed-base mode shapes in frame track
                           (railvib_tool building-modes on the scenario recorded in the bag)
@@ -287,22 +287,24 @@ def grid_quads(n_fast, n_slow):
 
 
 def point_velocity(topic, m, count):
-    """The snapshot's velocity as VTK point data: vertical_velocity_m_s (up), and velocity_m_s
-    [count x 3] (frame track) when the message carries the horizontal components."""
-    fields = {"vertical_velocity_m_s": np.asarray(m.vertical_velocity_m_s, dtype=np.float32)}
+    """The snapshot's velocity as VTK point data: velocity_m_s [count x 3] (vx, vy, vz up; frame
+    track) when the message carries the horizontal components, else vertical_velocity_m_s alone
+    (the vertical is then velocity_m_s's Z component, not written twice)."""
+    vz = np.asarray(m.vertical_velocity_m_s, dtype=np.float32)
     vx, vy = (np.asarray(getattr(m, f, []) or [], dtype=np.float32) for f in ("velocity_x_m_s", "velocity_y_m_s"))
-    if len(vx) or len(vy):
-        if len(vx) != count or len(vy) != count:
-            die(f"{topic}: snapshot {m.sample_index} has {len(vx)} / {len(vy)} horizontal values for {count} points")
-        fields["velocity_m_s"] = np.column_stack([vx, vy, fields["vertical_velocity_m_s"]])
-    return fields
+    if not len(vx) and not len(vy):
+        return {"vertical_velocity_m_s": vz}
+    if len(vx) != count or len(vy) != count:
+        die(f"{topic}: snapshot {m.sample_index} has {len(vx)} / {len(vy)} horizontal values for {count} points")
+    return {"velocity_m_s": np.column_stack([vx, vy, vz])}
 
 
 def write_grid(path, points, quads, point_data):
-    """One snapshot as a VTK XML unstructured grid, binary and zlib-compressed (meshio)."""
+    """One snapshot as a VTK XML unstructured grid, binary and zlib-compressed (meshio). Points in
+    float32 (a 1e-6 m step at 20 m) and int32 connectivity: a fifth less than doubles and int64."""
     import meshio  # checked in write_vtk
-    meshio.write(str(path), meshio.Mesh(points, [("quad", quads)], point_data=point_data), file_format="vtu",
-                 binary=True, compression="zlib")
+    mesh = meshio.Mesh(points.astype(np.float32), [("quad", quads.astype(np.int32))], point_data=point_data)
+    meshio.write(str(path), mesh, file_format="vtu", binary=True, compression="zlib")
 
 
 def surface_file(path, m):
@@ -352,7 +354,7 @@ def write_vtk(outdir, bag, every):
         if entries:
             write_pvd(d / f"{stem}.pvd", entries)
             size_mb = sum((d / f).stat().st_size for _, f in entries) / 1e6
-            what = {frozenset({3}): "velocity_m_s (vx, vy, vz) and vertical_velocity_m_s",
+            what = {frozenset({3}): "velocity_m_s (vx, vy, vz)",
                     frozenset({1}): "vertical_velocity_m_s only (recorded with snapshot_components: vertical)"}
             say(f"{d / (stem + '.pvd')}: {len(entries)} snapshots, {entries[0][0]:.3f}-{entries[-1][0]:.3f} s, "
                 f"{what.get(frozenset(components), 'vertical_velocity_m_s, velocity_m_s where recorded')}, "
