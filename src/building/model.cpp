@@ -243,12 +243,12 @@ std::vector<NamedPoint> freeFieldPoints(const BuildingParams& p) {
   for (int row = 0; row < 3; ++row) {
     for (int column = 0; column < 3; ++column) {
       out.push_back({names::buildingPlanPoint(row, column), at.origin_x_m + 0.5 * at.length_m * column,
-                     at.origin_y_m + 0.5 * at.width_m * row, 0.0});
+                     at.origin_y_m + 0.5 * at.width_m * row, 0.0, ""});
     }
   }
   if (!p.response_points.empty()) {
     const NamedPoint& r = p.response_points.front();
-    out.push_back({names::kBuildingResponseFreeFieldPoint, at.trackX(r.x_m), at.trackY(r.y_m), 0.0});
+    out.push_back({names::kBuildingResponseFreeFieldPoint, at.trackX(r.x_m), at.trackY(r.y_m), 0.0, ""});
   }
   return out;
 }
@@ -347,9 +347,10 @@ ResponseNode BuildingModel::snap(const NamedPoint& pt) const {
       mesh_.element_size_m * 0.75 + 0.5 * std::max(params_.wall_thickness_m, params_.floor_thickness_m);
   if (best < 0 || dist > allowed) {
     std::ostringstream os;
-    os << "config error: building.response_points: point '" << pt.name << "' at (" << pt.x_m << ", " << pt.y_m << ", "
-       << pt.z_m << ") m (building frame) is not on a wall or a slab of the model: nearest node " << dist
-       << " m away (allowed " << allowed << " m)";
+    os << "config error: " << (pt.key.empty() ? std::string("building.response_points") : pt.key) << ": point '"
+       << pt.name << "' at (" << pt.x_m << ", " << pt.y_m << ", " << pt.z_m
+       << ") m (building frame) is not on a wall or a slab of the model: nearest node " << dist << " m away (allowed "
+       << allowed << " m)";
     throw ConfigError(os.str());
   }
   ResponseNode r;

@@ -24,12 +24,8 @@ ShellMaterial loadMaterial(const ConfigNode& node) {
   return m;
 }
 
-NamedPoint loadPoint(const ConfigNode& node, const BuildingParams& p) {
-  NamedPoint pt;
-  pt.name = node.text("name");
-  pt.x_m = node.number("x_m", Range::any());
-  pt.y_m = node.number("y_m", Range::any());
-  pt.z_m = node.number("z_m", Range::any());
+// A response point inside the house's bounds (the model checks that it lies on a wall or a slab).
+void requireInHouse(const ConfigNode& node, const NamedPoint& pt, const BuildingParams& p) {
   auto check = [&](const char* key, double v, double lo, double hi) {
     if (v < lo || v > hi) {
       std::ostringstream os;
@@ -41,6 +37,16 @@ NamedPoint loadPoint(const ConfigNode& node, const BuildingParams& p) {
   check("x_m", pt.x_m, 0.0, p.length_m);
   check("y_m", pt.y_m, 0.0, p.width_m);
   check("z_m", pt.z_m, -p.foundation_depth_m, p.height_m);
+}
+
+NamedPoint loadPoint(const ConfigNode& node, const BuildingParams& p) {
+  NamedPoint pt;
+  pt.name = node.text("name");
+  pt.x_m = node.number("x_m", Range::any());
+  pt.y_m = node.number("y_m", Range::any());
+  pt.z_m = node.number("z_m", Range::any());
+  pt.key = node.keyPath();
+  requireInHouse(node, pt, p);
   return pt;
 }
 
@@ -112,18 +118,36 @@ BuildingParams loadBuildingParams(const ConfigNode& root) {
     p.footprint_nx = static_cast<int>(fp.integer("nx", 2, 100, p.footprint_nx));
     p.footprint_ny = static_cast<int>(fp.integer("ny", 2, 100, p.footprint_ny));
   }
-  if (b.has("response_points")) {
+  const bool listed = b.has("response_points");
+  if (listed) {
     for (const ConfigNode& n : b.sectionList("response_points")) p.response_points.push_back(loadPoint(n, p));
   } else {
     // [paper] middle of the width, three quarters along the length, ground and first floor.
-    p.response_points.push_back({"ground_floor", 0.75 * p.length_m, 0.5 * p.width_m, 0.0});
-    if (p.storeys > 1) p.response_points.push_back({"first_floor", 0.75 * p.length_m, 0.5 * p.width_m, storey_h});
+    p.response_points.push_back({"ground_floor", 0.75 * p.length_m, 0.5 * p.width_m, 0.0, ""});
+    if (p.storeys > 1) p.response_points.push_back({"first_floor", 0.75 * p.length_m, 0.5 * p.width_m, storey_h, ""});
   }
   for (size_t i = 0; i < p.response_points.size(); ++i) {
     for (size_t j = 0; j < i; ++j) {
       if (p.response_points[i].name == p.response_points[j].name) {
         b.fail("response_points", "duplicate response point name '" + p.response_points[i].name + "'");
       }
+    }
+  }
+  // The points the house's sensors place (virtual_sensors.sensors with a position): one of the
+  // default points of that name gives way to it; a listed one would be a second definition.
+  for (const PlacedSensor& s : loadPlacedSensors(root)) {
+    if (!s.in_house) continue;
+    requireInHouse(s.entry, s.point, p);
+    auto same = std::find_if(p.response_points.begin(), p.response_points.end(),
+                             [&](const NamedPoint& q) { return q.name == s.point.name; });
+    if (same != p.response_points.end() && !same->key.empty()) {
+      s.entry.fail(s.entry.has("point") ? "point" : "name",
+                   "the point '" + s.point.name + "' is defined twice (" + same->key + " and this sensor's position)");
+    }
+    if (same != p.response_points.end()) {
+      *same = s.point;
+    } else {
+      p.response_points.push_back(s.point);
     }
   }
   if (b.has("openings")) {

@@ -19,19 +19,61 @@ BuildingPlacement buildingPlan(const ConfigNode& root) {
 
 }  // namespace
 
+bool placesItsSensor(const ConfigNode& sensor_entry) { return sensor_entry.has("x_m") || sensor_entry.has("y_m"); }
+
+std::vector<PlacedSensor> loadPlacedSensors(const ConfigNode& root) {
+  std::vector<PlacedSensor> placed;
+  if (!root.has("virtual_sensors")) return placed;
+  for (const ConfigNode& entry : root.section("virtual_sensors").sectionList("sensors")) {
+    if (!placesItsSensor(entry)) continue;
+    PlacedSensor s{entry, entry.text("name"), false, {}};
+    // Its kind says where it stands: there is no source to give beside a position.
+    const std::string kind = entry.choice("kind", {"free_field", "foundation", "floor"});
+    if (entry.has("source")) {
+      entry.fail("source", "a sensor with a position (x_m, y_m) takes its source from its kind (" + kind +
+                               "); give a position and a kind, or a source and a point defined elsewhere");
+    }
+    s.in_house = kind != "free_field";
+    s.point.name = entry.text("point", s.sensor);
+    s.point.key = entry.keyPath();
+    s.point.x_m = entry.number("x_m", Range::open(-1.0e5, 1.0e5));
+    s.point.y_m = entry.number("y_m", Range::open(-1.0e5, 1.0e5));
+    if (s.in_house) {
+      s.point.z_m = entry.number("z_m", Range::open(-1.0e5, 1.0e5));
+    } else if (entry.has("z_m")) {
+      entry.fail("z_m", "a free-field sensor stands on the ground surface (frame track, z = 0)");
+    }
+    placed.push_back(s);
+  }
+  return placed;
+}
+
 SiteLayout loadSiteLayout(const ConfigNode& root) {
   const ConfigNode site = root.section("site");
   SiteLayout layout;
   layout.rail_gauge_m = site.number("rail_gauge_m", Range::open(0.5, 2.0));
   layout.exterior_rail_y_m = 0.5 * layout.rail_gauge_m;
   std::set<std::string> names;
-  for (const ConfigNode& sensor : site.sectionList("ground_sensors")) {
-    NamedPoint p;
-    p.name = sensor.text("name");
-    p.x_m = sensor.number("x_m", Range::open(-1.0e5, 1.0e5));
-    p.y_m = sensor.number("y_m", Range::open(-1.0e5, 1.0e5));
-    if (!names.insert(p.name).second) sensor.fail("name", "duplicate sensor name");
-    layout.ground_sensors.push_back(p);
+  // Optional: the free-field sensors may all be placed in virtual_sensors.sensors.
+  if (site.has("ground_sensors")) {
+    for (const ConfigNode& sensor : site.sectionList("ground_sensors")) {
+      NamedPoint p;
+      p.name = sensor.text("name");
+      p.x_m = sensor.number("x_m", Range::open(-1.0e5, 1.0e5));
+      p.y_m = sensor.number("y_m", Range::open(-1.0e5, 1.0e5));
+      p.key = sensor.keyPath();
+      if (!names.insert(p.name).second) sensor.fail("name", "duplicate sensor name");
+      layout.ground_sensors.push_back(p);
+    }
+  }
+  for (const PlacedSensor& s : loadPlacedSensors(root)) {
+    if (s.in_house) continue;
+    if (!names.insert(s.point.name).second) {
+      s.entry.fail(s.entry.has("point") ? "point" : "name",
+                   "the point '" + s.point.name +
+                       "' is defined twice (in site.ground_sensors, or by another sensor's position)");
+    }
+    layout.ground_sensors.push_back(s.point);
   }
   if (root.has("building")) {
     BuildingPlacement placement = buildingPlan(root);

@@ -202,7 +202,7 @@ soil::HouseReceivers houseReceivers(const ConfigNode& root, bool include_footpri
   // The house is driven at its foundation nodes: each becomes a soil receiver.
   if (include_footprint) {
     for (const auto& f : building::footprintPoints(params)) {
-      house.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m});
+      house.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m, ""});
     }
   }
   return house;

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     const railvib::building::BuildingParams building = railvib::building::loadBuildingParams(config.root());
     const auto sensors = railvib::signal::loadVirtualSensorConfig(config.root());
     std::vector<geometry_msgs::TransformStamped> frames{
-        translation(names::kBuildingFrame, {"", building.placement.origin_x_m, building.placement.origin_y_m, 0.0},
+        translation(names::kBuildingFrame, {"", building.placement.origin_x_m, building.placement.origin_y_m, 0.0, ""},
                     names::kTrackFrame)};
     for (const auto& p : building.response_points) {
       frames.push_back(translation(names::buildingPointFrame(p.name), p, names::kBuildingFrame));

@@ -69,7 +69,7 @@ nlohmann::json validateScenario(const Config& config) {
   const building::BuildingParams house = building::loadBuildingParams(root);
   soil::HouseReceivers receivers{building::freeFieldPoints(house), {}};
   for (const auto& f : building::footprintPoints(house)) {
-    receivers.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m});
+    receivers.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m, ""});
   }
   const soil::SoilParams soil = soil::loadSoilParams(root, receivers);
   // The house in the soil (two-way): what the soil node would refuse, refused here.
@@ -107,10 +107,10 @@ nlohmann::json validateScenario(const Config& config) {
     const signal::VirtualSensorSetup& s = sensors.sensors[i];
     const bool in_house = s.source == "building";
     if (!contains(in_house ? house_points : soil_points, s.point)) {
-      entries[i].fail("point", std::string("no such ") +
-                                   (in_house ? "building response point (building.response_points)"
-                                             : "soil receiver (site.ground_sensors, soil.output.receiver_line, the "
-                                               "house's free-field points)"));
+      entries[i].fail(
+          "point", std::string("no such ") + (in_house ? "building response point (building.response_points)"
+                                                       : "soil receiver (site.ground_sensors, a sensor's position, "
+                                                         "soil.output.receiver_line, the house's free-field points)"));
     }
     sensor_list.push_back({{"name", s.spec.name}, {"source", s.source}, {"point", s.point}});
   }
@@ -141,6 +141,11 @@ nlohmann::json validateScenario(const Config& config) {
                          {"building_response", soil.receiver_rate_hz},
                          {"sensor_samples", sensors.sample_rate_hz}};
   summary["duration_s"] = passage.duration_s;
+  // The soil box as the run will mesh it (soil.mesh.extent: fixed as given, auto fitted to the site).
+  summary["soil_box_m"] = {{"extent", soil.box_fitted ? "auto" : "fixed"},
+                           {"x", {soil.mesh.x_min_m, soil.mesh.x_max_m}},
+                           {"y", {soil.mesh.y_min_m, soil.mesh.y_max_m}},
+                           {"depth", soil.mesh.depth_m}};
   // The layouts the nodes will publish: what a stream of this scenario is checked against.
   nlohmann::json surface = nlohmann::json::array();
   for (const auto& r : soil.receivers)

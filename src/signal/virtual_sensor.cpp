@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "railvib/common/site.hpp"
+
 namespace railvib::signal {
 
 namespace {
@@ -31,10 +33,17 @@ VirtualSensorConfig loadVirtualSensorConfig(const ConfigNode& root) {
     setup.spec.noise_rms_m_s2 = s.number("noise_rms_m_s2", Range::nonNegative(), noise);
     // Each sensor its own reproducible noise: seed + position in the list.
     setup.spec.noise_seed = static_cast<uint64_t>(seed) + config.sensors.size();
-    setup.source = s.choice("source", {"soil", "building"});
-    setup.point = s.text("point");
-    setup.kind = sensorKindFromName(
-        s.choice("kind", {"free_field", "foundation", "floor"}, setup.source == "soil" ? "free_field" : "floor"));
+    if (placesItsSensor(s)) {
+      // Placed by its position (loadPlacedSensors): its kind says where it stands, it reads its own point.
+      setup.kind = sensorKindFromName(s.choice("kind", {"free_field", "foundation", "floor"}));
+      setup.source = setup.kind == SensorKind::FreeField ? "soil" : "building";
+      setup.point = s.text("point", setup.spec.name);
+    } else {
+      setup.source = s.choice("source", {"soil", "building"});
+      setup.point = s.text("point");
+      setup.kind = sensorKindFromName(
+          s.choice("kind", {"free_field", "foundation", "floor"}, setup.source == "soil" ? "free_field" : "floor"));
+    }
     if (setup.source == "building" && setup.kind == SensorKind::FreeField) {
       s.fail("kind", "a sensor in the house stands on its foundation or a floor, not in the free field");
     }

@@ -46,17 +46,41 @@ void readProfileAndDamping(const ConfigNode& soil, SoilParams& p) {
 // soil.mesh.f_max_hz: the highest frequency the mesh resolves.
 double meshFrequency(const ConfigNode& mesh) { return mesh.number("f_max_hz", Range::open(0.0, 1e4), 60.0); }
 
+void readMeshResolution(const ConfigNode& mesh, SoilParams& p);
+
 // soil.mesh: the box, resolution, precision, threads, memory cap.
 void readMesh(const ConfigNode& mesh, SoilParams& p) {
   p.mesh.f_max_hz = meshFrequency(mesh);
   p.mesh.elements_per_wavelength = mesh.number("elements_per_wavelength", Range::closed(4.0, 100.0), 8.0);
+  p.mesh.depth_m = mesh.number("depth_m", Range::open(0.0, 1e5));
+  // The plan of the box: given (mode fixed, the default), or fitted to the site later (fitBoxToSite).
+  const ConfigNode extent = mesh.has("extent") ? mesh.section("extent") : mesh;
+  p.box_fitted = mesh.has("extent") && extent.choice("mode", {"fixed", "auto"}) == "auto";
+  if (p.box_fitted) {
+    // Bounds for mode fixed may stay (a --set switches the mode): valid numbers, not used.
+    for (const char* key : {"x_min_m", "x_max_m", "y_min_m", "y_max_m"}) {
+      if (mesh.has(key)) mesh.number(key, Range::open(-1e5, 1e5));
+    }
+    p.box_margin_along_m = extent.number("margin_along_track_m", Range::closed(0.0, 1e4));
+    p.box_margin_across_m = extent.number("margin_across_track_m", Range::closed(0.0, 1e4));
+    return readMeshResolution(mesh, p);
+  }
+  if (mesh.has("extent")) {  // mode fixed: margins kept for a switch to auto, still valid values
+    for (const char* key : {"margin_along_track_m", "margin_across_track_m"}) {
+      if (extent.has(key)) extent.number(key, Range::closed(0.0, 1e4));
+    }
+  }
   p.mesh.x_min_m = mesh.number("x_min_m", Range::open(-1e5, 1e5));
   p.mesh.x_max_m = mesh.number("x_max_m", Range::open(-1e5, 1e5));
   p.mesh.y_min_m = mesh.number("y_min_m", Range::open(-1e5, 1e5));
   p.mesh.y_max_m = mesh.number("y_max_m", Range::open(-1e5, 1e5));
-  p.mesh.depth_m = mesh.number("depth_m", Range::open(0.0, 1e5));
   if (!(p.mesh.x_max_m > p.mesh.x_min_m)) mesh.fail("x_max_m", "must be greater than x_min_m");
   if (!(p.mesh.y_max_m > p.mesh.y_min_m)) mesh.fail("y_max_m", "must be greater than y_min_m");
+  readMeshResolution(mesh, p);
+}
+
+// soil.mesh: the element size cap, step, precision, threads, ranks, kernel, memory cap.
+void readMeshResolution(const ConfigNode& mesh, SoilParams& p) {
   p.mesh.max_plane_size_m = mesh.number("max_plane_size_m", Range::nonNegative(), 0.0);
   p.solver.safety_factor = mesh.number("safety_factor", Range{0.0, 1.0, true, false}, 0.9);
   p.solver.precision =
@@ -118,9 +142,39 @@ AbsorbingZone absorbingZone(const SolverOptions& s) {
   return {boundary->zoneThicknessM(), boundary->zoneAlongBottom(), boundaryMethodName(s.boundary.method)};
 }
 
+// soil.mesh.extent mode auto: the box holds the site, every receiver (the sensors, the receiver
+// line, the house's free-field and footprint points), the inclusions, the section plane and the
+// track's sleepers across it, with margin_across_track_m beyond them on each side across the track
+// and margin_along_track_m of loaded track beyond them along it, and the boundary's absorbing zone
+// outside that (as track.extent mode auto fits the track to the run).
+void fitBoxToSite(const ConfigNode& soil, SoilParams& p) {
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  auto hold = [&](double x_lo, double x_hi, double y_lo, double y_hi) {
+    x0 = std::min(x0, x_lo), x1 = std::max(x1, x_hi), y0 = std::min(y0, y_lo), y1 = std::max(y1, y_hi);
+  };
+  for (const ReceiverSpec& r : p.receivers) hold(r.x_m, r.x_m, r.y_m, r.y_m);
+  for (const InclusionSpec& inc : p.mesh.inclusions) hold(inc.x_min_m, inc.x_max_m, inc.y_min_m, inc.y_max_m);
+  const ConfigNode out = soil.section("output");
+  if (out.has("section") && out.section("section").flag("enabled", true)) {
+    const double x = out.section("section").number("x_m", Range::open(-1e5, 1e5));
+    hold(x, x, y0, y1);
+  }
+  if (!(x1 >= x0)) {
+    soil.section("mesh").section("extent").fail("mode",
+                                                "auto needs something to hold: no receiver, inclusion or "
+                                                "section in the scenario");
+  }
+  // The sleepers' footprint across the track (the loads' width), centred on the track axis.
+  hold(x0, x1, -0.5 * p.track.length_m, 0.5 * p.track.length_m);
+  const double zone = absorbingZone(p.solver).thickness_m;
+  p.mesh.x_min_m = x0 - p.box_margin_along_m - zone;
+  p.mesh.x_max_m = x1 + p.box_margin_along_m + zone;
+  p.mesh.y_min_m = y0 - p.box_margin_across_m - zone;
+  p.mesh.y_max_m = y1 + p.box_margin_across_m + zone;
+}
+
 // soil.boundary: the method and its parameters; its absorbing zone must leave room in the box.
-void readBoundary(const ConfigNode& b, SoilParams& p) {
-  p.solver.boundary = loadBoundarySpec(b);
+void checkBoundaryFits(const ConfigNode& b, const SoilParams& p) {
   const AbsorbingZone zone = absorbingZone(p.solver);
   const double layer = zone.thickness_m;
   if (layer > 0.0 && (2.0 * layer >= p.mesh.x_max_m - p.mesh.x_min_m ||
@@ -165,9 +219,8 @@ void addPoints(const std::vector<NamedPoint>& points, const std::string& origin,
 // Ground sensors, the line perpendicular to the track (soil.output.receiver_line), the house's.
 void collectReceivers(const ConfigNode& root, const HouseReceivers& house, SoilParams& p) {
   const SiteLayout site = loadSiteLayout(root);
-  for (size_t i = 0; i < site.ground_sensors.size(); ++i) {
-    addPoints({site.ground_sensors[i]}, "site.ground_sensors[" + std::to_string(i) + "]", p);
-  }
+  // site.ground_sensors[i] or virtual_sensors.sensors[i]: where each was defined.
+  for (const NamedPoint& q : site.ground_sensors) addPoints({q}, q.key, p);
   const ConfigNode out = root.section("soil").section("output");
   if (out.has("receiver_line")) {
     const ConfigNode line = out.section("receiver_line");
@@ -320,11 +373,13 @@ SoilParams loadSoilParams(const ConfigNode& root, const HouseReceivers& house) {
   const ConfigNode soil = root.section("soil");
   readProfileAndDamping(soil, p);
   readMesh(soil.section("mesh"), p);
-  readBoundary(soil.section("boundary"), p);
+  p.solver.boundary = loadBoundarySpec(soil.section("boundary"));
   readInclusions(soil, p);
-  readOutputAndLoads(soil, p);
   p.track = loadTrackLayout(root);
   collectReceivers(root, house, p);
+  if (p.box_fitted) fitBoxToSite(soil, p);
+  checkBoundaryFits(soil.section("boundary"), p);
+  readOutputAndLoads(soil, p);
   checkReceivers(soil, p);
   checkMemory(soil, p);
   return p;

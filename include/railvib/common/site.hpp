@@ -26,7 +26,30 @@ struct NamedPoint {
   double x_m = 0.0;
   double y_m = 0.0;
   double z_m = 0.0;
+  /// The config entry that defines it (e.g. "virtual_sensors.sensors[0]"), for refusals; empty for
+  /// a point the code places (the house's default response points).
+  std::string key;
 };
+
+/// A virtual sensor placed by its own entry (virtual_sensors.sensors[i] with x_m and y_m): the entry
+/// defines the point the sensor reads, named `point` (default: the sensor's name), so a sensor is
+/// written once, with its position and its kind. kind free_field: a soil receiver at (x_m, y_m) of
+/// frame track, on the surface; foundation or floor: a response point of the house at
+/// (x_m, y_m, z_m) of frame building. An entry without a position reads a point defined elsewhere
+/// (source and point: site.ground_sensors, the receiver line, building.response_points).
+struct PlacedSensor {
+  ConfigNode entry;    ///< virtual_sensors.sensors[i], for refusals that name its keys
+  std::string sensor;  ///< the sensor's name
+  bool in_house = false;
+  NamedPoint point;  ///< key: the entry's path
+};
+
+/// The placed sensors of virtual_sensors.sensors, in list order (none without that section). Reads
+/// only what placing needs (kind, point, x_m, y_m, z_m; the sensor loader reads the rest and checks
+/// names); the house's own loader checks that a point lies in the house. Throws ConfigError.
+std::vector<PlacedSensor> loadPlacedSensors(const ConfigNode& root);
+/// Whether the entry places its sensor (has a position).
+bool placesItsSensor(const ConfigNode& sensor_entry);
 
 /// Where the house stands: its outer plan and the origin of frame `building` in frame `track`.
 struct BuildingPlacement {
@@ -47,7 +70,8 @@ struct SiteLayout {
   double rail_gauge_m = 1.435;
   /// Lateral position of the rail nearer to the building (y > 0).
   double exterior_rail_y_m = 0.7175;
-  /// Free-field ground sensors (frame track, on the surface), names unique.
+  /// Free-field ground sensors (frame track, on the surface), names unique: site.ground_sensors,
+  /// then the free-field sensors that virtual_sensors.sensors places (loadPlacedSensors).
   std::vector<NamedPoint> ground_sensors;
   /// The house, when the scenario has a `building` section.
   std::optional<BuildingPlacement> building;
@@ -95,7 +119,8 @@ struct TrackLayout {
   std::vector<double> sleeperPositions() const;
 };
 
-/// Read `site` (rail gauge, ground sensors) and, with a `building` section, the house's placement
+/// Read `site` (rail gauge, ground sensors, and the placed free-field sensors) and, with a `building`
+/// section, the house's placement
 /// (site.building, building.length_m and width_m). Throws ConfigError.
 SiteLayout loadSiteLayout(const ConfigNode& root);
 /// The house's placement (as in loadSiteLayout); without a `site` section, frame `building` at the

@@ -30,6 +30,11 @@ struct HouseReceivers {
 struct SoilParams {
   std::vector<Layer> profile;  // layers then the half-space (last)
   MeshSpec mesh;
+  /// soil.mesh.extent mode auto: the box's plan fitted to the site (receivers, inclusions, section,
+  /// the sleepers across the track) with these margins and the absorbing zone; false: as given.
+  bool box_fitted = false;
+  double box_margin_along_m = 0.0;
+  double box_margin_across_m = 0.0;
   SolverOptions solver;
   double max_memory_gb = 12.0;
   double receiver_rate_hz = 1000.0;
@@ -51,7 +56,8 @@ struct SoilParams {
   /// Start from static equilibrium under the first load sample: the model is linear, so the
   /// velocities are those of the load increments F(t) - F(0) from rest (no start-up step).
   bool start_from_static = true;
-  /// Ground sensors (site.ground_sensors), the receiver line, then the house's receivers.
+  /// Ground sensors (site.ground_sensors and the placed free-field sensors), the receiver line, then the house's
+  /// receivers.
   std::vector<ReceiverSpec> receivers;
 };
 

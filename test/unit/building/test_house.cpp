@@ -335,3 +335,115 @@ TEST(House, PlacementValuesAreRefusedOnceAndHandedOn) {
   EXPECT_EQ(footprint.front().name, "footprint_0_0");
   EXPECT_DOUBLE_EQ(footprint.front().x_track_m, p.placement.trackX(0.5 * p.wall_thickness_m));
 }
+
+// ---------------------------------------------------------------- sensors written once (issue 34)
+#include "railvib/signal/virtual_sensor.hpp"
+
+namespace {
+// virtual_sensors.sensors of config/site_haren.yaml, entry i replaced by `entry` when given.
+std::string harenSensors(size_t i = 99, const std::string& entry = "") {
+  const std::string entries[] = {
+      "{name: ground_2m, kind: free_field, x_m: 0.0, y_m: 2.0}",
+      "{name: ground_8m, kind: free_field, x_m: 0.0, y_m: 8.0}",
+      "{name: house_ground_floor, kind: foundation, point: ground_floor, x_m: 7.5, y_m: 3.5, z_m: 0.0}",
+      "{name: house_first_floor, kind: floor, point: first_floor, x_m: 7.5, y_m: 3.5, z_m: 2.5}"};
+  std::string list = "virtual_sensors.sensors=[";
+  for (size_t k = 0; k < 4; ++k) list += (k ? ", " : "") + (k == i ? entry : entries[k]);
+  return list + "]";
+}
+
+std::string placementError(const std::vector<std::string>& overrides) {
+  try {
+    const Config c = houseConfig(overrides);
+    loadSiteLayout(c.root());
+    loadBuildingParams(c.root());
+    signal::loadVirtualSensorConfig(c.root());
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+// The Haren sensors are written once, each with its position and kind; the site, the house and the
+// sensor loader read the same scenario as the older form (points defined in site.ground_sensors and
+// building.response_points, sensors naming a source and a point): the same points at the same
+// places, the same sources, points and kinds.
+TEST(PlacedSensors, DefineThePointsTheyReadAsTheOlderFormDid) {
+  const Config placed = houseConfig();
+  const Config older =
+      houseConfig({"site.ground_sensors=[{name: ground_2m, x_m: 0.0, y_m: 2.0}, {name: ground_8m, x_m: 0.0, y_m: 8.0}]",
+                   "building.response_points=[{name: ground_floor, x_m: 7.5, y_m: 3.5, z_m: 0.0}, "
+                   "{name: first_floor, x_m: 7.5, y_m: 3.5, z_m: 2.5}]",
+                   "virtual_sensors.sensors=[{name: ground_2m, source: soil, point: ground_2m, kind: free_field}, "
+                   "{name: ground_8m, source: soil, point: ground_8m, kind: free_field}, "
+                   "{name: house_ground_floor, source: building, point: ground_floor, kind: foundation}, "
+                   "{name: house_first_floor, source: building, point: first_floor, kind: floor}]"});
+  auto samePoints = [](const std::vector<NamedPoint>& a, const std::vector<NamedPoint>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].name, b[i].name);
+      EXPECT_EQ(a[i].x_m, b[i].x_m) << a[i].name;
+      EXPECT_EQ(a[i].y_m, b[i].y_m) << a[i].name;
+      EXPECT_EQ(a[i].z_m, b[i].z_m) << a[i].name;
+    }
+  };
+  const SiteLayout site = loadSiteLayout(placed.root());
+  samePoints(site.ground_sensors, loadSiteLayout(older.root()).ground_sensors);
+  ASSERT_EQ(site.ground_sensors.size(), 2u);
+  EXPECT_EQ(site.ground_sensors[1].key, "virtual_sensors.sensors[1]");
+  const BuildingParams house = loadBuildingParams(placed.root());
+  samePoints(house.response_points, loadBuildingParams(older.root()).response_points);
+  ASSERT_EQ(house.response_points.size(), 2u);
+  EXPECT_EQ(house.response_points[1].key, "virtual_sensors.sensors[3]");
+  const auto a = signal::loadVirtualSensorConfig(placed.root());
+  const auto b = signal::loadVirtualSensorConfig(older.root());
+  ASSERT_EQ(a.sensors.size(), 4u);
+  ASSERT_EQ(b.sensors.size(), 4u);
+  for (size_t i = 0; i < a.sensors.size(); ++i) {
+    EXPECT_EQ(a.sensors[i].spec.name, b.sensors[i].spec.name);
+    EXPECT_EQ(a.sensors[i].source, b.sensors[i].source) << a.sensors[i].spec.name;
+    EXPECT_EQ(a.sensors[i].point, b.sensors[i].point) << a.sensors[i].spec.name;
+    EXPECT_EQ(a.sensors[i].kind, b.sensors[i].kind) << a.sensors[i].spec.name;
+  }
+  // The list in the test is the file's.
+  samePoints(loadSiteLayout(houseConfig({harenSensors()}).root()).ground_sensors, site.ground_sensors);
+  // A sensor placed elsewhere moves its point, and only its point.
+  const Config moved = houseConfig(
+      {harenSensors(3, "{name: house_first_floor, kind: floor, point: first_floor, x_m: 2.0, y_m: 3.5, z_m: 2.5}")});
+  const BuildingParams moved_house = loadBuildingParams(moved.root());
+  EXPECT_EQ(moved_house.response_points[1].x_m, 2.0);
+  EXPECT_EQ(moved_house.response_points[0].x_m, 7.5);
+}
+
+// A placement that contradicts itself or the scenario is refused, naming the sensor's key.
+TEST(PlacedSensors, ContradictionsAreRefusedWithTheSensorsKey) {
+  std::string e =
+      placementError({harenSensors(0, "{name: ground_2m, kind: free_field, source: soil, x_m: 0, y_m: 2}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[0].source"), std::string::npos) << e;
+  EXPECT_NE(e.find("takes its source from its kind"), std::string::npos) << e;
+  e = placementError({harenSensors(0, "{name: ground_2m, kind: free_field, x_m: 0, y_m: 2, z_m: 1}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[0].z_m"), std::string::npos) << e;
+  // The house is 10 m long.
+  e = placementError({harenSensors(3, "{name: house_first_floor, kind: floor, x_m: 12.0, y_m: 3.5, z_m: 2.5}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[3].x_m"), std::string::npos) << e;
+  EXPECT_NE(e.find("outside the building"), std::string::npos) << e;
+  e = placementError({harenSensors(1, "{name: ground_8m, kind: free_field, point: ground_2m, x_m: 0, y_m: 8}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[1].point"), std::string::npos) << e;
+  EXPECT_NE(e.find("defined twice"), std::string::npos) << e;
+  e = placementError({"building.response_points=[{name: first_floor, x_m: 7.5, y_m: 3.5, z_m: 2.5}]"});
+  EXPECT_NE(e.find("virtual_sensors.sensors[3].point"), std::string::npos) << e;
+  EXPECT_NE(e.find("building.response_points[0]"), std::string::npos) << e;
+  // A house sensor switched to the free field keeps a height it cannot have there.
+  e = placementError({harenSensors(
+      2, "{name: house_ground_floor, kind: free_field, point: ground_floor, x_m: 7.5, y_m: 3.5, z_m: 0.0}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[2].z_m"), std::string::npos) << e;
+  e = placementError({harenSensors(1, "{name: ground_8m, kind: attic, x_m: 0, y_m: 8}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[1].kind = attic"), std::string::npos) << e;
+  // A house point off the walls and slabs (mid-height of the first storey, inside the rooms): the
+  // model names the sensor that placed it.
+  e = configError({harenSensors(3,
+                                "{name: house_first_floor, kind: floor, point: first_floor, x_m: 5.0, y_m: 3.5, "
+                                "z_m: 1.2}")});
+  EXPECT_NE(e.find("virtual_sensors.sensors[3]: point 'first_floor'"), std::string::npos) << e;
+}

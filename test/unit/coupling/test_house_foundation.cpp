@@ -152,3 +152,47 @@ TEST(HouseFoundation, MeshedFoundationIsAClosedConcreteShell) {
       refusal({"building.foundation.model=meshed", "building.foundation.base_slab_thickness_m=0.7"});
   EXPECT_NE(coarse.find("building.foundation.model"), std::string::npos) << coarse;
 }
+
+// soil.mesh.extent mode auto: the box holds every soil receiver (the sensors, the receiver line, the
+// house's points), the section plane and the sleepers across the track, with the margins and the
+// boundary's absorbing zone beyond them, exactly; a sensor moved out moves the box with it.
+TEST(SoilBox, AnAutomaticBoxHoldsTheSiteWithItsMarginsAndFollowsASensor) {
+  const auto box = [](const Config& cfg) {
+    return soil::loadSoilParams(cfg.root(), coupling::houseReceivers(cfg.root(), true));
+  };
+  const Config cfg = harenConfig({"soil.mesh.extent.mode=auto"});
+  const soil::SoilParams p = box(cfg);
+  ASSERT_TRUE(p.box_fitted);
+  // The perfectly matched layer outside the margins (soil.boundary.pml.thickness_m).
+  const double zone =
+      cfg.root().section("soil").section("boundary").section("pml").number("thickness_m", Range::positive());
+  double x0 = 1e300, x1 = -1e300, y0 = -0.5 * p.track.length_m, y1 = 0.5 * p.track.length_m;
+  for (const soil::ReceiverSpec& r : p.receivers) {
+    x0 = std::min(x0, r.x_m), x1 = std::max(x1, r.x_m), y0 = std::min(y0, r.y_m), y1 = std::max(y1, r.y_m);
+  }
+  EXPECT_NEAR(p.mesh.x_min_m, x0 - 10.0 - zone, 1e-12);
+  EXPECT_NEAR(p.mesh.x_max_m, x1 + 10.0 + zone, 1e-12);
+  EXPECT_NEAR(p.mesh.y_min_m, y0 - 2.0 - zone, 1e-12);
+  EXPECT_NEAR(p.mesh.y_max_m, y1 + 2.0 + zone, 1e-12);
+  // Haren: the receiver line reaches y = 15 m, the house's footprint |x| < 5 m, the track y = -1.3 m.
+  EXPECT_NEAR(p.mesh.y_max_m, 15.0 + 2.0 + zone, 1e-12);
+  EXPECT_NEAR(p.mesh.y_min_m, -1.3 - 2.0 - zone, 1e-12);
+  EXPECT_LE(x1, 5.0);  // the house's front wall spans x [-5, 5] m
+  EXPECT_GT(x1, 4.0);
+  // The 8 m sensor moved to 25 m (and 3 m along the track): the box follows; the fixed box refuses it.
+  const std::string moved =
+      "virtual_sensors.sensors=[{name: ground_2m, kind: free_field, x_m: 0.0, y_m: 2.0}, "
+      "{name: ground_8m, kind: free_field, x_m: -8.0, y_m: 25.0}, "
+      "{name: house_ground_floor, kind: foundation, point: ground_floor, x_m: 7.5, y_m: 3.5, z_m: 0.0}, "
+      "{name: house_first_floor, kind: floor, point: first_floor, x_m: 7.5, y_m: 3.5, z_m: 2.5}]";
+  const soil::SoilParams q = box(harenConfig({"soil.mesh.extent.mode=auto", moved}));
+  EXPECT_NEAR(q.mesh.y_max_m, 25.0 + 2.0 + zone, 1e-12);
+  EXPECT_NEAR(q.mesh.x_min_m, -8.0 - 10.0 - zone, 1e-12);
+  EXPECT_NEAR(q.mesh.x_max_m, p.mesh.x_max_m, 1e-12);
+  try {
+    box(harenConfig({moved}));
+    ADD_FAILURE() << "the fixed box took a sensor outside it";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("virtual_sensors.sensors[1]"), std::string::npos) << e.what();
+  }
+}

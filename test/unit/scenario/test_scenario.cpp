@@ -151,10 +151,18 @@ TEST(Scenario, GroundSensorsOnTheTwoWayFoundationAreNamed) {
   ASSERT_EQ(meshed.size(), 1u) << meshed.dump();
   EXPECT_NE(meshed[0].get<std::string>().find("meshed foundation's motion"), std::string::npos) << meshed.dump();
   EXPECT_TRUE(notes({"building.coupling=one_way"}).empty());
-  const std::string sensors = "site.ground_sensors=[{name: ground_2m, x_m: 0.0, y_m: 2.0}, {name: ground_8m, x_m: ";
-  EXPECT_EQ(notes({sensors + "5.0, y_m: 11.7175}]"}).size(), 1u);  // the plan's corner
-  EXPECT_TRUE(notes({sensors + "5.01, y_m: 8.0}]"}).empty());
-  EXPECT_TRUE(notes({sensors + "0.0, y_m: 4.7075}]"}).empty());  // 1 cm in front of the front wall
+  // The 8 m sensor placed at (x, y) m, the other sensors as in the file.
+  const auto placed = [](const std::string& x, const std::string& y) {
+    return "virtual_sensors.sensors=[{name: ground_2m, kind: free_field, x_m: 0.0, y_m: 2.0}, "
+           "{name: ground_8m, kind: free_field, x_m: " +
+           x + ", y_m: " + y +
+           "}, "
+           "{name: house_ground_floor, kind: foundation, point: ground_floor, x_m: 7.5, y_m: 3.5, z_m: 0.0}, "
+           "{name: house_first_floor, kind: floor, point: first_floor, x_m: 7.5, y_m: 3.5, z_m: 2.5}]";
+  };
+  EXPECT_EQ(notes({placed("5.0", "11.7175")}).size(), 1u);  // the plan's corner
+  EXPECT_TRUE(notes({placed("5.01", "8.0")}).empty());
+  EXPECT_TRUE(notes({placed("0.0", "4.7075")}).empty());  // 1 cm in front of the front wall
 }
 
 // Every case in the regular build; every n-th (RAILVIB_FUZZ_STRIDE = n) in the sanitizer build, where
@@ -287,12 +295,17 @@ TEST(Scenario, CrossChecksBetweenSections) {
 TEST(Scenario, ASensorAtAPointNoSourceOutputsIsRefused) {
   const YAML::Node tree = ciTree();
   YAML::Node copy = YAML::Clone(tree);
-  copy["virtual_sensors"]["sensors"][1]["point"] = "ground_9m";
+  // A sensor that reads a point defined elsewhere (source and point, no position) names one.
+  copy["virtual_sensors"]["sensors"][1] = YAML::Load("{name: ground_8m, source: soil, point: ground_9m}");
   const std::string m = verdictOfText(emit(copy));
   EXPECT_NE(m.find("virtual_sensors.sensors[1].point = ground_9m"), std::string::npos) << m;
   copy = YAML::Clone(tree);
-  copy["virtual_sensors"]["sensors"][3]["point"] = "attic";
+  copy["virtual_sensors"]["sensors"][3] = YAML::Load("{name: house_first_floor, source: building, point: attic}");
   EXPECT_NE(verdictOfText(emit(copy)).find("building response point"), std::string::npos);
+  // The same point named by the reference form reads the placed sensor's point: accepted.
+  copy = YAML::Clone(tree);
+  copy["virtual_sensors"]["sensors"].push_back(YAML::Load("{name: second_8m, source: soil, point: ground_8m}"));
+  EXPECT_EQ(verdictOfText(emit(copy)), "");
 }
 
 TEST(Scenario, AMeshBeyondTheMachineIsRefusedWhateverMaxMemoryAllows) {
