@@ -123,28 +123,11 @@ class MeasuredRun:
         path = pathlib.Path(path)
         if sensor not in run.sensors:
             die(f"--sensor {sensor}: the run has no such sensor ({', '.join(run.sensors)})")
+        import measured_record
         try:
-            import measured_record
-            rate, channels = measured_record.read_csv(path, time_column="t_s")
+            self.axes, raw, rate = measured_record.velocity_axes(path, axes)
         except measured_record.RecordError as e:
             die(f"{e} (a measured record is the velocity CSV of ./railvib import)")
-        names_ = list(channels)
-        if axes is None:
-            axes = names_ if len(names_) == 3 else (["-", "-", names_[0]] if len(names_) == 1 else None)
-            if axes is None:
-                die(f"{path}: {len(names_)} channels ({', '.join(names_)}): say which is x, y, z with --axes")
-        if len(axes) != 3:
-            die(f"--axes {','.join(axes)}: three names (x, y, z), '-' for an axis not measured")
-        for c in axes:
-            if c != "-" and c not in channels:
-                die(f"--axes: {path} has no channel '{c}' ({', '.join(names_)})")
-        if axes[2] == "-":
-            die("--axes: the vertical (z) channel is needed (the comparison aligns and reads v_z)")
-        self.axes = axes
-        n = len(channels[axes[2]])
-        raw = np.column_stack([channels[c] if c != "-" else np.zeros(n) for c in axes])
-        if not np.all(np.abs(raw) <= 10.0):
-            die(f"{path}: a velocity beyond 10 m/s: not a velocity CSV in m/s")
         ratio = Fraction(1.0 / (run.dt * rate)).limit_denominator(1000)
         if abs(float(ratio) * rate * run.dt - 1.0) > 1e-6:
             die(f"{path}: its rate {rate:g} Hz is no simple ratio of the run's {1 / run.dt:g} Hz")

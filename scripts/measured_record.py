@@ -147,6 +147,30 @@ def read_csv(path, channels=None, time_column=None, rate_hz=None):
     return rate_hz, {c: table[:, header.index(c)] for c in names}
 
 
+def velocity_axes(path, axes=None):
+    """A velocity CSV of ./railvib import as (axes, v [samples x 3] in m/s, rate_hz): axes are the
+    record's channels taken as x, y, z of frame track ('-': not measured, zeros); default: three
+    channels are x, y, z, one channel is z. The vertical is required (every comparison reads v_z)."""
+    rate, channels = read_csv(path, time_column="t_s")
+    names = list(channels)
+    if axes is None:
+        axes = names if len(names) == 3 else (["-", "-", names[0]] if len(names) == 1 else None)
+        if axes is None:
+            raise RecordError(f"{path}: {len(names)} channels ({', '.join(names)}): say which is x, y, z with --axes")
+    if len(axes) != 3:
+        raise RecordError(f"--axes {','.join(axes)}: three names (x, y, z), '-' for an axis not measured")
+    for c in axes:
+        if c != "-" and c not in channels:
+            raise RecordError(f"--axes: {path} has no channel '{c}' ({', '.join(names)})")
+    if axes[2] == "-":
+        raise RecordError("--axes: the vertical (z) channel is needed")
+    n = len(channels[axes[2]])
+    v = np.column_stack([channels[c] if c != "-" else np.zeros(n) for c in axes])
+    if not np.all(np.abs(v) <= LIMITS_SI["velocity"]):
+        raise RecordError(f"{path}: a velocity beyond {LIMITS_SI['velocity']:g} m/s: not a velocity CSV in m/s")
+    return list(axes), v, rate
+
+
 def read_wav(path, sensitivity, channels=None):
     """(rate_hz, {chN: samples in the record's unit}) of a WAV record."""
     from scipy.io import wavfile

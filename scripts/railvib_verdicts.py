@@ -29,6 +29,16 @@ def kind_name(value):
     return _table("KIND_").get(value, "?")
 
 
+def kind_value(name):
+    """The message's code of a kind name (free_field, foundation, floor); None for an unknown name."""
+    return {n: v for v, n in _table("KIND_").items()}.get(name)
+
+
+def kind_names():
+    """The kind names, in the order of their codes."""
+    return [n for _, n in sorted(_table("KIND_").items())]
+
+
 def judged(value):
     """Whether a verdict judges (OK, WARN, ERROR), rather than saying a standard does not apply or cannot be judged."""
     return verdict_name(value) in ("OK", "WARN", "ERROR")

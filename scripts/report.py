@@ -2,6 +2,8 @@
 """railvib report: figures and a Markdown summary from a recorded scenario bag.
 
 usage: ./railvib report BAG [OUTDIR] [--exposure-s T]
+       ./railvib report MEASURED.csv [OUTDIR] [--kind free_field|foundation|floor] [--axes X,Y,Z]
+                        [--period day|night] [--exposure-s T]
 
 Reads the railvib streams of the bag (whatever the scenario recorded):
   /railvib/scenario    the scenario record: version, command line, resolved configuration
@@ -22,7 +24,10 @@ and writes into OUTDIR (default: BAG without .bag + "_report"):
   scenario.yaml        the run's resolved configuration (after includes and overrides), when recorded;
   report.json          what the figures show (guide values, impact times, frequency range, windows),
                        for tests and scripts.
-The KB_F(t) curves and KB_FTr come from `railvib_tool metrics` on the recorded samples (the same core
+A measured record alone (the velocity CSV of `./railvib import`, t_s and channels in m/s): report.md
+with its metrics and the verdicts of the standards that apply where it was measured (--kind, default
+foundation; --axes as for ./railvib compare), sensors.png and standards.png as for a run's sensor,
+report.json. The KB_F(t) curves and KB_FTr come from `railvib_tool metrics` on the recorded samples (the same core
 code as the live sensors), never re-implemented here. --exposure-s: the DIN 4150-2 exposure time for
 KB_FTr (default: the record length, one passage).
 """
@@ -119,6 +124,8 @@ def verdict_text(value):
     """A live verdict as the report prints it: WARN is DIN 4150-2's middle case, which the rating decides."""
     return "WARN (rating KB_FTr decides)" if verdicts.verdict_name(value) == "WARN" else verdicts.verdict_name(value)
 COMPONENTS = ["vx", "vy", "vz"]  # the columns railvib_tool metrics names them by
+USAGE = ("./railvib report BAG [OUTDIR] [--exposure-s T] | ./railvib report MEASURED.csv [OUTDIR] "
+         "[--kind free_field|foundation|floor] [--axes X,Y,Z] [--period day|night] [--exposure-s T]")
 COMPONENT_COLOURS = {0: "C2", 1: "C1", 2: "C0"}
 
 
@@ -542,18 +549,112 @@ def kbf_axes(ax, kbf, components, a_u, a_o, impacts):
     ax.legend(fontsize=6, loc="lower right")
 
 
+def measured_report(args):
+    """A measured record alone (./railvib import's velocity CSV): its metrics and the standards that
+    apply where it was measured (--kind), with the figures of a run's sensors."""
+    import types
+    import measured_record
+    path = pathlib.Path(args.bag)
+    kind = args.kind or "foundation"
+    if verdicts.kind_value(kind) is None:
+        die(f"--kind {kind}: one of {', '.join(verdicts.kind_names())}")
+    if args.period not in (None, "day", "night"):
+        die(f"--period {args.period}: day or night")
+    try:
+        axes, v, rate = measured_record.velocity_axes(path, args.axes.split(",") if args.axes else None)
+    except measured_record.RecordError as e:
+        die(f"{e} (a measured record is the velocity CSV of ./railvib import)")
+    outdir = pathlib.Path(args.outdir) if args.outdir else path.with_name(path.stem + "_report")
+    try:
+        output_dir(outdir)
+    except OutputDirError as e:
+        die(str(e))
+    name = path.stem
+    t = np.arange(len(v)) / rate
+    period = args.period or "day"
+    exposure_s = args.exposure_s if args.exposure_s is not None else len(v) / rate
+    summary, kbf = metrics(t, v, outdir, name, exposure_s=exposure_s, period=period, kind=kind)
+    d2, d3 = summary["din4150_2"], summary["din4150_3"]
+    governing = next(c for c, comp in enumerate(d3["components"]) if comp["column"] == d3["governing_component"])
+    measured = [c for c in range(3) if axes[c] != "-"]
+    plotted = [2] + ([governing] if governing != 2 else [])
+    figures = ["sensors.png", "standards.png"]
+    fig, ax = plt.subplots(1, 3, figsize=(14, 3.2), squeeze=False)
+    for c in plotted:
+        ax[0][0].plot(t, v[:, c] * 1e3, lw=0.6, color=COMPONENT_COLOURS[c], label=COMPONENTS[c])
+        fr, amp = spectrum(t, v[:, c] * 1e3)
+        ax[0][1].plot(fr, amp, lw=0.7, color=COMPONENT_COLOURS[c], label=COMPONENTS[c])
+    ax[0][0].set_title(f"{name}: velocity (measured)", fontsize=9)
+    ax[0][0].set_xlabel("time [s] from the record's start")
+    ax[0][0].set_ylabel("v [mm/s]")
+    ax[0][0].legend(fontsize=6, loc="upper right")
+    spectrum_axes(ax[0][1], spectrum_range_hz(rate), None, "z" if governing == 2 else None)
+    ax[0][1].set_title("Fourier transform magnitude (rectangular window)", fontsize=9)
+    ax[0][1].legend(fontsize=6, loc="upper right")
+    kbf_axes(ax[0][2], kbf, plotted, d2["a_u"], d2["a_o"], [])
+    ax[0][2].set_xlabel("time [s]")
+    for a in ax[0]:
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(outdir / "sensors.png", dpi=110)
+    plt.close(fig)
+    # The standards figure as for a run's sensor: the kind stands where a live sensor's message would.
+    stand_in = types.SimpleNamespace(kind=verdicts.kind_value(kind))
+    standards = standards_figure([name], {name: stand_in}, {name: summary}, None, outdir / "standards.png")
+    provenance = path.with_suffix(".json")
+    source = json.loads(provenance.read_text()) if provenance.exists() else None
+    lines = [f"# railvib report: the measured record `{path.name}`", "",
+             f"- record: {len(v)} samples at {rate:g} Hz ({len(v) / rate:g} s); channels {', '.join(axes)} as "
+             "x, y, z of frame track" + ("" if len(measured) == 3 else
+                                        " ('-': not measured, taken as zero: the vector PPV and the governing "
+                                        "component cover the measured axes only)"),
+             "- imported by `./railvib import` from " + (f"`{source.get('source')}` ({source.get('quantity')}, "
+                                                         f"{source.get('unit')})" if isinstance(source, dict)
+                                                         else "(no provenance file beside the record)"),
+             f"- where it was measured: {kind} (--kind; the standards judged follow from it, docs/signal.md)",
+             "- no model resolution applies: every verdict is assessable", "",
+             "## Metrics and standards", "",
+             "| kind | KB_Fmax | PPV, vector [mm/s] | governing component: peak [mm/s] | its frequency [Hz] | "
+             "its DIN 4150-3 limit [mm/s] | DIN 4150-2 | DIN 4150-3 |", "|---|---|---|---|---|---|---|---|"]
+    g = d3["components"][governing]
+    limit = g.get("din4150_3_limit_mm_s")
+    lines.append(f"| {kind} | {d2['kb_fmax']:.4f} | {d3['vector_peak_mm_s']:.4f} | {COMPONENTS[governing]} "
+                 f"{g['ppv_mm_s']:.4f} | {g['dominant_frequency_hz']:.1f} | "
+                 f"{limit if limit is None else format(limit, '.1f')} | {d2['level']} ({d2['reason']}) | "
+                 f"{d3['level']} |")
+    lines += ["", f"DIN 4150-2 ({period}): KB_FTr {d2['kb_ftr']:.3g} over T_e = {exposure_s:g} s, A_u / A_o / A_r "
+              f"{d2['a_u']:g} / {d2['a_o']:g} / {d2['a_r']:g}. DIN 4150-3: {d3['building']}. From `railvib_tool "
+              f"metrics` on the record (`{name}_velocity.csv` here), the core's code the live sensors use; in the "
+              "free field neither standard applies and the figures are for information.", "",
+              "![sensors](sensors.png)", "", "![standards](standards.png)", ""]
+    (outdir / "report.md").write_text("\n".join(lines))
+    (outdir / "report.json").write_text(json.dumps(
+        {"record": str(path), "kind": kind, "axes": axes, "rate_hz": rate, "figures": figures,
+         "metrics": summary, "standards": standards}, indent=1, default=str))
+    print(f"railvib report: {outdir / 'report.md'} ({len(figures)} figures)")
+    return 0
+
+
 def main(argv):
     parser = argparse.ArgumentParser(prog="./railvib report", description=__doc__.split("\n")[0])
     parser.add_argument("bag")
     parser.add_argument("outdir", nargs="?")
     parser.add_argument("--exposure-s", type=float, default=None,
                         help="DIN 4150-2 exposure time for KB_FTr (s); default: the record length (one passage)")
-    parser.error = lambda message: die(f"{message}\nusage: ./railvib report BAG [OUTDIR] [--exposure-s T]")
+    parser.add_argument("--kind", help="a measured record: where it was measured (free_field, foundation, floor)")
+    parser.add_argument("--axes", help="a measured record: its channels as x,y,z ('-': not measured)")
+    parser.add_argument("--period", help="a measured record: the DIN 4150-2 period (day, night)")
+    parser.error = lambda message: die(f"{message}\nusage: {USAGE}")
     if len(argv) < 2:
-        die("usage: ./railvib report BAG [OUTDIR] [--exposure-s T]")
+        die("usage: " + USAGE)
     args = parser.parse_args(argv[1:])
     if args.exposure_s is not None and not (args.exposure_s > 0 and np.isfinite(args.exposure_s)):
         die(f"--exposure-s {args.exposure_s}: must be a positive number of seconds")
+    if args.bag.lower().endswith(".csv"):
+        return measured_report(args)
+    for option in ("kind", "axes", "period"):
+        if getattr(args, option) is not None:
+            die(f"--{option} is for a measured record (a .csv); a bag's sensors say their own")
     bag_path = pathlib.Path(args.bag)
     if not bag_path.exists():
         die(f"no such bag: {bag_path}")

@@ -560,7 +560,58 @@ class MeasuredImport(unittest.TestCase):
             self.assertIn(message, r.stderr, args)
 
 
-CLASSES = (Export, MetricsBands, SensorTopics, Study, MeasuredImport)
+class MeasuredReport(unittest.TestCase):
+    """./railvib report of a measured record alone: an imported 20 Hz acceleration sine gives its
+    velocity amplitude as PPV (1 %), and the standards judged follow --kind (DIN 4150-3's foundation
+    curve at 20 Hz, its floor value, none in the free field)."""
+
+    @classmethod
+    def setUpClass(cls):
+        rate, f_hz, cls.amplitude_m_s2 = 2000.0, 20.0, 0.5
+        t = np.arange(0.0, 8.0, 1.0 / rate)
+        a = cls.amplitude_m_s2 * np.sin(2 * np.pi * f_hz * t + 0.4)
+        np.savetxt(WORK / "floor_acc.csv", np.c_[t, a], delimiter=",", header="t_s,az", comments="", fmt="%.12g")
+        r = run_script("measured_record.py", WORK / "floor_acc.csv", "--out", WORK / "floor_velocity.csv",
+                       "--no-metrics")
+        assert r.returncode == 0, r.stderr
+        cls.expected_mm_s = cls.amplitude_m_s2 / (2 * np.pi * f_hz) * 1e3
+
+    def report(self, out, *args):
+        r = run_script("report.py", WORK / "floor_velocity.csv", WORK / out, *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        return json.loads((WORK / out / "report.json").read_text())
+
+    def test_the_record_alone_gives_its_ppv_and_the_standards_of_where_it_was_measured(self):
+        found = self.report("rep_foundation", "--kind", "foundation")
+        d3 = found["metrics"]["din4150_3"]
+        vz = d3["components"][2]
+        self.assertEqual(found["axes"], ["-", "-", "az"])  # one channel: the vertical
+        self.assertAlmostEqual(vz["ppv_mm_s"] / self.expected_mm_s, 1.0, delta=0.01)
+        self.assertAlmostEqual(vz["dominant_frequency_hz"], 20.0, delta=0.5)
+        # DIN 4150-3 Table 1 row 2 at the foundation: 5 + (f - 10) / 40 x 10 mm/s between 10 and 50 Hz.
+        self.assertAlmostEqual(vz["din4150_3_limit_mm_s"], 7.5, delta=0.15)
+        self.assertEqual(found["standards"]["floor_velocity"]["guideline"], "foundation curve")
+        floor = self.report("rep_floor", "--kind", "floor")
+        self.assertAlmostEqual(floor["metrics"]["din4150_3"]["components"][2]["din4150_3_limit_mm_s"], 20.0)
+        free = self.report("rep_free", "--kind", "free_field")
+        self.assertEqual(free["metrics"]["sensor"]["verdict"], "not applicable")
+        for out in ("rep_foundation", "rep_floor", "rep_free"):
+            for png in ("sensors.png", "standards.png"):
+                self.assertGreater((WORK / out / png).stat().st_size, 10000)
+        text = (WORK / "rep_foundation" / "report.md").read_text()
+        self.assertIn("floor_acc.csv", text)  # the provenance of ./railvib import
+
+    def test_bad_options_are_refused(self):
+        for args, message in ((("--kind", "attic"), "--kind attic"), (("--axes", "az"), "three names"),
+                              (("--period", "evening"), "--period evening")):
+            r = run_script("report.py", WORK / "floor_velocity.csv", WORK / "rep_bad", *args)
+            self.assertEqual(r.returncode, 1, (args, r.stderr))  # report's refusal
+            self.assertIn(message, r.stderr)
+            self.assertNotIn("Traceback", r.stderr)
+
+
+CLASSES = (Export, MetricsBands, SensorTopics, Study, MeasuredImport, MeasuredReport)
 
 
 if __name__ == "__main__":
