@@ -187,20 +187,24 @@ TEST(SoilModel, SnapshotsAreOneThreeComponentFieldWithTheLoadsMirrorSymmetry) {
   p.section_x_m = 0.0;
   p.receivers.clear();
   ASSERT_TRUE(p.snapshot_horizontal);  // the default: all three components
-  const std::vector<double> xs = {0.0};
-  SoilModel m(p, xs, 2000.0);
-  std::vector<double> loads(201);
-  for (size_t f = 0; f < loads.size(); ++f) loads[f] = 1e4 * std::exp(-std::pow((f / 2000.0 - 0.02) / 0.004, 2));
-  m.pushLoads(0, loads.data(), loads.size());
-  m.finishLoads();
-  m.finishRun(0.1, 0.05);
+  // A Gaussian pulse on the track axis at x = 0; the snapshots of the run and its mesh.
   std::vector<SurfaceSnapshot> surf;
   std::vector<SectionSnapshot> sect;
-  m.takeSnapshots(surf);
-  m.takeSectionSnapshots(sect);
+  const auto run = [](const SoilParams& params, std::vector<SurfaceSnapshot>& surface,
+                      std::vector<SectionSnapshot>& section) {
+    SoilModel m(params, {0.0}, 2000.0);
+    std::vector<double> loads(201);
+    for (size_t f = 0; f < loads.size(); ++f) loads[f] = 1e4 * std::exp(-std::pow((f / 2000.0 - 0.02) / 0.004, 2));
+    m.pushLoads(0, loads.data(), loads.size());
+    m.finishLoads();
+    m.finishRun(0.1, 0.05);
+    m.takeSnapshots(surface);
+    m.takeSectionSnapshots(section);
+    return m.solver().mesh();
+  };
+  const StructuredMesh mesh = run(p, surf, sect);
   ASSERT_EQ(surf.size(), sect.size());
   ASSERT_GT(sect.size(), 5u);
-  const StructuredMesh& mesh = m.solver().mesh();
   ASSERT_NEAR(mesh.x0, -mesh.xMax(), 1e-12);  // the mirror in x below needs a box symmetric about the load
   ASSERT_NEAR(mesh.y0, -mesh.yMax(), 1e-12);
   const size_t i = static_cast<size_t>(std::lround((0.0 - mesh.x0) / mesh.hx));
@@ -244,14 +248,9 @@ TEST(SoilModel, SnapshotsAreOneThreeComponentFieldWithTheLoadsMirrorSymmetry) {
 
   // Vertical only: the same vertical field, no horizontal ones.
   p.snapshot_horizontal = false;
-  SoilModel vertical(p, xs, 2000.0);
-  vertical.pushLoads(0, loads.data(), loads.size());
-  vertical.finishLoads();
-  vertical.finishRun(0.1, 0.05);
   std::vector<SurfaceSnapshot> surf_v;
   std::vector<SectionSnapshot> sect_v;
-  vertical.takeSnapshots(surf_v);
-  vertical.takeSectionSnapshots(sect_v);
+  run(p, surf_v, sect_v);
   ASSERT_EQ(surf_v.size(), surf.size());
   for (size_t s = 0; s < surf.size(); ++s) {
     EXPECT_EQ(surf_v[s].vz_up_m_s, surf[s].vz_up_m_s);
