@@ -5,11 +5,13 @@
 #include <fstream>
 #include <functional>
 
+#include "config_test_util.hpp"
 #include "railvib/common/config.hpp"
 
 using railvib::Config;
 using railvib::ConfigError;
 using railvib::Range;
+using railvib::testing::writeFile;
 
 namespace {
 
@@ -22,12 +24,6 @@ void expectConfigError(const std::function<void()>& fn, const std::vector<std::s
     const std::string msg = e.what();
     for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
   }
-}
-
-std::filesystem::path writeFile(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
-  std::filesystem::create_directories(dir);
-  std::ofstream(dir / name) << text;
-  return dir / name;
 }
 
 }  // namespace

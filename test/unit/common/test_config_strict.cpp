@@ -8,11 +8,13 @@
 #include <functional>
 #include <string>
 
+#include "config_test_util.hpp"
 #include "railvib/common/config.hpp"
 
 using railvib::Config;
 using railvib::ConfigError;
 using railvib::Range;
+using railvib::testing::writeFile;
 namespace fs = std::filesystem;
 
 namespace {
@@ -35,11 +37,6 @@ fs::path tempDir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("railvib_strict_" + name + "_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
-}
-
-fs::path writeFile(const fs::path& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir / name) << text;
-  return dir / name;
 }
 
 // A small "loader": reads track.rail.{mass_kg, n} and the track.model choice, as a real one does.

@@ -6,12 +6,13 @@
 #include <random>
 #include <vector>
 
+#include "railvib/common/constants.hpp"
 #include "railvib/signal/decimator.hpp"
 
 using namespace railvib::signal;
+using railvib::kPi;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<double> sine(double f, double fs, size_t n, double t0 = 0.0, double phase = 0.3) {
   std::vector<double> x(n);

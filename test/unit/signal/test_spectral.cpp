@@ -5,16 +5,14 @@
 #include <random>
 #include <vector>
 
+#include "railvib/common/constants.hpp"
 #include "railvib/signal/differentiator.hpp"
 #include "railvib/signal/filter_design.hpp"
 #include "railvib/signal/spectrum.hpp"
 #include "railvib/signal/third_octave.hpp"
 
 using namespace railvib::signal;
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
+using railvib::kPi;
 
 TEST(ThirdOctave, NominalBands) {
   const auto b = thirdOctaveBands(1.0, 100.0);

@@ -7,15 +7,13 @@
 #include <optional>
 #include <vector>
 
+#include "railvib/common/constants.hpp"
 #include "railvib/signal/din_check.hpp"
 #include "railvib/signal/monitor.hpp"
 #include "railvib/signal/vibration.hpp"
 
 using namespace railvib::signal;
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
+using railvib::kPi;
 
 // DIN 45669-1 test table: continuous 1 mm/s (amplitude) sine, KB_F = steady mean, KB_Fmax = ripple maximum.
 TEST(KbWeighting, Din45669TestValuesAtSeveralRates) {

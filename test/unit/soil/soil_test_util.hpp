@@ -1,6 +1,8 @@
 // Shared helpers of the soil unit tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -9,9 +11,31 @@
 #include "railvib/common/config.hpp"
 #include "railvib/soil/mesh.hpp"
 #include "railvib/soil/rigid_body.hpp"
+#include "railvib/soil/soil_params.hpp"
 #include "railvib/soil/solver.hpp"
 
 namespace railvib::soil::testing {
+
+/// The track's load stream rate in the small scenarios (track.output.load_sample_rate_hz).
+inline constexpr double kLoadRateHz = 2000.0;
+/// The Haren top layer's stiffness and density with nu = 0.25 (Vs 114 m/s, Vp 197 m/s), and concrete.
+inline const Material kSoil{61.0e6, 1876.0, 0.25};
+inline const Material kConcrete{20.0e9, 2400.0, 0.2};
+
+/// The soil parameters of a scenario's YAML text.
+inline SoilParams paramsOf(const std::string& yaml) {
+  return loadSoilParams(railvib::Config::fromString(yaml, "test.yaml").root());
+}
+
+/// The scenario is refused with a ConfigError whose message holds `fragment`.
+inline void expectConfigError(const std::string& yaml, const std::string& fragment) {
+  try {
+    paramsOf(yaml);
+    ADD_FAILURE() << "no ConfigError for " << fragment;
+  } catch (const railvib::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
 
 /// A small self-contained scenario (homogeneous-ish 2-layer soil, short track);
 /// `extra` is appended at the end of the YAML text (overrides by later keys are not

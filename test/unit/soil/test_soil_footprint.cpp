@@ -18,12 +18,13 @@
 #include "railvib/soil/mesh.hpp"
 #include "railvib/soil/soil_params.hpp"
 #include "railvib/soil/ssi_verification.hpp"
+#include "soil_test_util.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::kSoil;
+using railvib::soil::testing::paramsOf;
 
 namespace {
-
-const Material kSoil{61.0e6, 1876.0, 0.25};  // Vs 114 m/s, Vp 197 m/s
 
 // A homogeneous half-space under a PML on every face but the surface, 0.25 m elements, small
 // footprints (0.3 m across the track, 0.25 m along it) every 0.72 m.
@@ -56,10 +57,6 @@ std::string homogeneousScenario(double x_half_m, const std::string& boundary = "
          "  rail_gauge_m: 1.435\n"
          "  ground_sensors: [{name: s, x_m: 0.0, y_m: 1.0}]\n"
          "simulation: {duration_s: 0.1}\n";
-}
-
-SoilParams paramsOf(const std::string& yaml) {
-  return loadSoilParams(railvib::Config::fromString(yaml, "test.yaml").root());
 }
 
 // Pekeris: surface displacement at r per unit point force, in the frequency domain, from the Hann

@@ -18,11 +18,11 @@
 #include "soil_test_util.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::kConcrete;
+using railvib::soil::testing::kSoil;
 using railvib::soil::testing::maxAbs;
 
 namespace {
-
-const Material kSoil{61.0e6, 1876.0, 0.25}, kConcrete{20.0e9, 2400.0, 0.2};
 
 // 12 x 12 elements of 0.5 m, 8 levels of 0.5 m.
 StructuredMesh boxMesh() {

@@ -25,12 +25,12 @@
 #include "soil_test_util.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::kConcrete;
 using railvib::soil::testing::maxAbs;
 
 namespace {
 
 const Material kLayer1{61.0e6, 1876.0, 0.13}, kLayer2{84.0e6, 1876.0, 0.13}, kHalfSpace{465.0e6, 1992.0, 0.3};
-const Material kConcrete{20.0e9, 2400.0, 0.2};
 
 // 12 x 10 elements of 0.25 m, 12 levels: 4 of layer 1, 4 of layer 2, 4 of half-space.
 StructuredMesh smallMesh(size_t nx = 12, size_t nz = 12) {

@@ -16,20 +16,9 @@ using namespace railvib::soil;
 using railvib::Config;
 using railvib::ConfigError;
 
-namespace {
-constexpr double kLoadRateHz = 2000.0;  // the track's track.output.load_sample_rate_hz
-
-SoilParams smallParams(const std::string& yaml) { return loadSoilParams(Config::fromString(yaml, "test.yaml").root()); }
-
-void expectConfigError(const std::string& yaml, const std::string& fragment) {
-  try {
-    smallParams(yaml);
-    ADD_FAILURE() << "no ConfigError for " << fragment;
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
-}
-}  // namespace
+using railvib::soil::testing::expectConfigError;
+using railvib::soil::testing::kLoadRateHz;
+using railvib::soil::testing::paramsOf;
 
 TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
   using railvib::soil::testing::smallScenario;
@@ -65,7 +54,7 @@ TEST(SoilModel, BadInputIsRefusedBeforeStepping) {
 }
 
 TEST(SoilModel, SleepersOutsideTheBoxAreDropped) {
-  const SoilParams p = smallParams(railvib::soil::testing::smallScenario());
+  const SoilParams p = paramsOf(railvib::soil::testing::smallScenario());
   SoilModel model(p, {0.0, 0.72}, kLoadRateHz);
   ASSERT_EQ(model.sleeperCount(), 2u);
   EXPECT_TRUE(model.droppedSleepers().empty());
@@ -75,7 +64,7 @@ TEST(SoilModel, SleepersOutsideTheBoxAreDropped) {
 }
 
 TEST(SoilModel, StreamingInBlocksEqualsOneBlockAndChecksContinuity) {
-  const SoilParams p = smallParams(railvib::soil::testing::smallScenario());
+  const SoilParams p = paramsOf(railvib::soil::testing::smallScenario());
   const std::vector<double> xs = {-0.72, 0.0, 0.72};
   const size_t frames = 201;  // 0.1 s at 2 kHz
   std::vector<double> loads(frames * xs.size());
@@ -129,7 +118,7 @@ TEST(SoilModel, StreamingInBlocksEqualsOneBlockAndChecksContinuity) {
 
 TEST(SoilModel, DownwardLoadMovesTheSurfaceDown) {
   // A slowly applied downward load under the receiver: vertical (up) velocity is negative first.
-  SoilParams p = smallParams(railvib::soil::testing::smallScenario(
+  SoilParams p = paramsOf(railvib::soil::testing::smallScenario(
       "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
       "[{name: s0, x_m: 0.0, y_m: 0.0}]"));
   p.receivers.resize(1);
@@ -150,7 +139,7 @@ TEST(SoilModel, DownwardLoadMovesTheSurfaceDown) {
 TEST(SoilModel, FinishRunEndsOneStepPastTheLastLoadWhateverTheRounding) {
   // The accumulated step time can land a hair below t_end (within advance()'s 1e-9 dt tolerance):
   // the end of a run must still terminate, hold the last load and emit the receiver frame at t_end.
-  SoilParams p = smallParams(railvib::soil::testing::smallScenario(
+  SoilParams p = paramsOf(railvib::soil::testing::smallScenario(
       "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", "",
       "[{name: s0, x_m: 0.0, y_m: 0.0}]"));
   p.receivers.resize(1);
@@ -182,7 +171,7 @@ TEST(SoilModel, FinishRunEndsOneStepPastTheLastLoadWhateverTheRounding) {
 // vz and vx even in y, vy odd in y (the horizontal motion points away from the load on both sides);
 // on the surface vx is odd in x about the load, vy and vz even.
 TEST(SoilModel, SnapshotsAreOneThreeComponentFieldWithTheLoadsMirrorSymmetry) {
-  SoilParams p = smallParams(railvib::soil::testing::smallScenario());
+  SoilParams p = paramsOf(railvib::soil::testing::smallScenario());
   p.section_enabled = true;
   p.section_x_m = 0.0;
   p.receivers.clear();
@@ -294,7 +283,7 @@ TEST(SoilParams, SharedValuesAreRefusedByTheirOneLoader) {
 namespace {
 // The small scenario in double precision with receivers mirrored about the track axis.
 SoilParams seatParams() {
-  return smallParams(railvib::soil::testing::smallScenario(
+  return paramsOf(railvib::soil::testing::smallScenario(
       "{thickness_m: 1.0, young_modulus_pa: 61.0e6, density_kg_m3: 1876.0, poisson_ratio: 0.13}", ", precision: double",
       "[{name: a, x_m: 0.3, y_m: 2.0}, {name: b, x_m: 0.3, y_m: -2.0}]"));
 }

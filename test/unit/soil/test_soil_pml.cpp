@@ -15,8 +15,11 @@
 #include "soil_test_util.hpp"
 
 using namespace railvib::soil;
+using railvib::soil::testing::expectConfigError;
+using railvib::soil::testing::kLoadRateHz;
 using railvib::soil::testing::maxAbs;
 using railvib::soil::testing::maxAbsDiff;
+using railvib::soil::testing::paramsOf;
 
 namespace {
 
@@ -249,7 +252,6 @@ TEST(SoilPml, StableFor20SecondsWithoutEnergyGrowth) {
 namespace {
 
 // The small test scenario (+-4 m box, 4 m deep, 0.75 m elements, receiver s2 at y = 2 m) with a PML.
-constexpr double kLoadRateHz = 2000.0;  // the track's load stream (track.output.load_sample_rate_hz)
 
 std::string pmlScenario(const std::string& pml, const std::string& outside = "drop") {
   std::string y = railvib::soil::testing::smallScenario();
@@ -258,19 +260,6 @@ std::string pmlScenario(const std::string& pml, const std::string& outside = "dr
   const std::string drop = "outside_mesh: drop";
   y.replace(y.find(drop), drop.size(), "outside_mesh: " + outside);
   return y;
-}
-
-SoilParams paramsOf(const std::string& yaml) {
-  return loadSoilParams(railvib::Config::fromString(yaml, "test.yaml").root());
-}
-
-void expectConfigError(const std::string& yaml, const std::string& fragment) {
-  try {
-    paramsOf(yaml);
-    ADD_FAILURE() << "no ConfigError for " << fragment;
-  } catch (const railvib::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

@@ -9,12 +9,6 @@
 namespace railvib::track {
 namespace {
 
-std::vector<double> logGrid(double f0, double f1, int n) {
-  std::vector<double> f(n);
-  for (int i = 0; i < n; ++i) f[i] = f0 * std::pow(f1 / f0, static_cast<double>(i) / (n - 1));
-  return f;
-}
-
 // Discrete supports (pad - sleeper - ballast on a rigid base) vs the analytic
 // continuous beam on the smeared 2-layer support, 5 Hz .. f_pp / 2, at a
 // sleeper and at midspan.
@@ -23,7 +17,7 @@ TEST(TrackReceptance, ConvergesToContinuousBeamOnTwoLayerSupport) {
   const TrackModel model(p);
   const double fpp = pinnedPinnedFrequency(p);
   EXPECT_NEAR(fpp, 842.0, 2.0);
-  const std::vector<double> f = logGrid(5.0, 0.5 * fpp, 60);
+  const std::vector<double> f = test::logGrid(5.0, 0.5 * fpp, 60);
   for (double x : {0.0, 0.5 * p.layout.spacing_m}) {
     const auto r = model.receptance(x, f);
     double worst = 0.0, worst_f = 0.0;

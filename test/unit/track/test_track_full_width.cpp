@@ -19,16 +19,10 @@
 namespace railvib::track {
 namespace {
 
-std::vector<double> frequencies() {
+std::vector<double> fullWidthFrequencies() {
   std::vector<double> f;
   for (double v = 1.0; v <= 500.0; v += 3.7) f.push_back(v);
   return f;
-}
-
-double worstRelative(const std::vector<std::complex<double>>& a, const std::vector<std::complex<double>>& b) {
-  double worst = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]) / std::abs(b[i]));
-  return worst;
 }
 
 const char* kFoundations[] = {"clm", "winkler", "rigid"};
@@ -41,8 +35,8 @@ TEST(FullWidthTrack, InPhaseLoadingIsTheHalfTrack) {
     const TrackModel full(test::harenScenario({"track.foundation.model=" + fm, "track.width=full"}));
     ASSERT_EQ(full.railCount(), 2);
     for (double x : {0.0, 0.36}) {
-      const double err =
-          worstRelative(full.receptance(x, frequencies(), RailLoading::Both), half.receptance(x, frequencies()));
+      const double err = test::worstRelative(full.receptance(x, fullWidthFrequencies(), RailLoading::Both),
+                                             half.receptance(x, fullWidthFrequencies()));
       EXPECT_LT(err, 1e-9) << fm << " at x = " << x;
     }
     // Static: the ballast forces under each seat equal the half track's.
@@ -71,10 +65,10 @@ TEST(FullWidthTrack, AntiPhaseIsTheHalfTrackWithTheRollInertiaAsSleeperMass) {
     std::ostringstream mass;
     mass << std::setprecision(17) << equivalent_kg;
     const TrackModel half(test::harenScenario({"track.foundation.model=" + fm, "track.sleeper.mass_kg=" + mass.str()}));
-    const auto anti = full.receptance(0.0, frequencies(), RailLoading::AntiPhase);
-    EXPECT_LT(worstRelative(anti, half.receptance(0.0, frequencies())), 1e-9) << fm;
+    const auto anti = full.receptance(0.0, fullWidthFrequencies(), RailLoading::AntiPhase);
+    EXPECT_LT(test::worstRelative(anti, half.receptance(0.0, fullWidthFrequencies())), 1e-9) << fm;
     // and the two cases really differ (50.7 kg m^2 over 2 a^2 = 49.2 kg against 45 kg per seat)
-    EXPECT_GT(worstRelative(anti, full.receptance(0.0, frequencies(), RailLoading::Both)), 1e-3) << fm;
+    EXPECT_GT(test::worstRelative(anti, full.receptance(0.0, fullWidthFrequencies(), RailLoading::Both)), 1e-3) << fm;
   }
 }
 
@@ -105,7 +99,7 @@ TEST(FullWidthTrack, AStaticLoadOnOneRailStaysOnIt) {
     // dynamically the right rail moves: the sleeper's heave and roll are inertially coupled
     const auto cross = full.receptance(0.0, {80.0}, RailLoading::Left);
     const auto right_of_right = full.receptance(0.0, {80.0}, RailLoading::Right);
-    EXPECT_LT(worstRelative(right_of_right, cross), 1e-9) << fm;  // mirror image: left = right
+    EXPECT_LT(test::worstRelative(right_of_right, cross), 1e-9) << fm;  // mirror image: left = right
   }
 }
 

@@ -19,16 +19,10 @@ namespace {
 
 using Cplx = std::complex<double>;
 
-std::vector<double> frequencies() {
+std::vector<double> onGroundFrequencies() {
   std::vector<double> f;
   for (double v = 0.5; v <= 300.0; v += 8.3) f.push_back(v);
   return f;
-}
-
-double worstRelative(const std::vector<Cplx>& a, const std::vector<Cplx>& b) {
-  double worst = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]) / std::abs(b[i]));
-  return worst;
 }
 
 TrackParams withFoundation(TrackParams p, FoundationModel m) {
@@ -63,13 +57,13 @@ TEST(TrackOnGround, WinklerGroundIsTheWinklerTrack) {
     };
     // the layered tracks at midspan and every other frequency only (the seam is the same at every x and
     // frequency; keeps the test short under the sanitizers)
-    std::vector<double> f = frequencies();
+    std::vector<double> f = onGroundFrequencies();
     if (!layer.empty()) {
       for (size_t i = 0; 2 * i < f.size(); ++i) f[i] = f[2 * i];
       f.resize((f.size() + 1) / 2);
     }
     for (double x : layer.empty() ? std::vector<double>{0.0, 0.36} : std::vector<double>{0.36}) {
-      const double err = worstRelative(receptanceOnGround(rigid, x, f, ground), winkler.receptance(x, f));
+      const double err = test::worstRelative(receptanceOnGround(rigid, x, f, ground), winkler.receptance(x, f));
       EXPECT_LT(err, 1e-9) << "x = " << x << ", layers " << layer.size();
     }
   }
@@ -101,8 +95,8 @@ TEST(TrackOnGround, ClmGroundIsTheClmTrack) {
     return Eigen::MatrixXcd(d.inverse());
   };
   for (double x : {0.0, 0.36}) {
-    const double err =
-        worstRelative(receptanceOnGround(rigid, x, frequencies(), ground), clm.receptance(x, frequencies()));
+    const double err = test::worstRelative(receptanceOnGround(rigid, x, onGroundFrequencies(), ground),
+                                           clm.receptance(x, onGroundFrequencies()));
     EXPECT_LT(err, 1e-9) << "x = " << x;
   }
 }
@@ -112,7 +106,8 @@ TEST(TrackOnGround, RigidGroundIsTheRigidTrack) {
   const TrackModel rigid(withFoundation(test::haren(), FoundationModel::Rigid));
   const Eigen::Index n = rigid.sleeperCount();
   const GroundCompliance still = [&](double) { return Eigen::MatrixXcd(Eigen::MatrixXcd::Zero(n, n)); };
-  EXPECT_LT(worstRelative(receptanceOnGround(rigid, 0.1, frequencies(), still), rigid.receptance(0.1, frequencies())),
+  EXPECT_LT(test::worstRelative(receptanceOnGround(rigid, 0.1, onGroundFrequencies(), still),
+                                rigid.receptance(0.1, onGroundFrequencies())),
             1e-12);
 }
 

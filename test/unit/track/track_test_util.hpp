@@ -1,7 +1,11 @@
 // Shared helpers of the track unit tests.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <complex>
 #include <string>
+#include <vector>
 
 #include "railvib/common/config.hpp"
 #include "railvib/track/track_model.hpp"
@@ -11,6 +15,20 @@
 #endif
 
 namespace railvib::track::test {
+
+/// n frequencies from f0 to f1 (Hz), evenly spaced on a log scale.
+inline std::vector<double> logGrid(double f0, double f1, int n) {
+  std::vector<double> f(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) f[static_cast<size_t>(i)] = f0 * std::pow(f1 / f0, static_cast<double>(i) / (n - 1));
+  return f;
+}
+
+/// The largest |a - b| / |b| over two receptance curves of equal length.
+inline double worstRelative(const std::vector<std::complex<double>>& a, const std::vector<std::complex<double>>& b) {
+  double worst = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]) / std::abs(b[i]));
+  return worst;
+}
 
 inline std::string configPath(const std::string& name) { return std::string(RAILVIB_SOURCE_DIR) + "/config/" + name; }
 

@@ -22,15 +22,15 @@
 #include "railvib/track/track_model.hpp"
 #include "railvib/track/track_newmark.hpp"
 #include "railvib/vehicle/passage.hpp"
+#include "vehicle_test_util.hpp"
 
 using namespace railvib;
 using namespace railvib::vehicle;
+using railvib::vehicle::test::haren;
+using railvib::vehicle::test::sci;
+using railvib::vehicle::test::with;
 
 namespace {
-
-Config haren(const std::vector<std::string>& overrides) {
-  return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
-}
 
 struct PassageRun {
   explicit PassageRun(std::vector<std::string> overrides, bool full)
@@ -82,22 +82,12 @@ struct PassageRun {
   Eigen::VectorXd static_force;
 };
 
-std::string sci(double v) {
-  std::ostringstream s;
-  s << std::setprecision(3) << v;
-  return s.str();
-}
-
 // The front axle over the defect at x = 0 (and the track ringing after it), dt = 2e-5 s (the
 // convergence test of test_vehicle: 0.03 % from 1e-5 s), the contact solved to 1e-12 of the wheel
 // load so that two runs differ by round-off only.
-const std::vector<std::string> kOverDefect = {"simulation.duration_s=0.08", "simulation.front_axle_start_m=-0.3",
-                                              "simulation.time_step_s=2.0e-5", "simulation.contact_tolerance=1.0e-12"};
-
-std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
+const std::vector<std::string> kOverDefectToRoundOff = {
+    "simulation.duration_s=0.08", "simulation.front_axle_start_m=-0.3", "simulation.time_step_s=2.0e-5",
+    "simulation.contact_tolerance=1.0e-12"};
 
 /// Worst difference between the full-width run and the half run (each wheel of an axle against the
 /// half model's wheel, each rail seat against the half track's), relative to the largest force.
@@ -162,7 +152,7 @@ TEST(FullWidthPassage, SymmetricDefectReproducesTheHalfModel) {
       {"rigid, 0.1 mm defect", {"simulation.vehicle_track=rigid", "unevenness.defect.height_m=1.0e-4"}},
   };
   for (const Case& c : cases) {
-    const Agreement a = compareWithHalf(with(kOverDefect, c.overrides));
+    const Agreement a = compareWithHalf(with(kOverDefectToRoundOff, c.overrides));
     EXPECT_LT(a.contact, 1e-7) << c.label;
     EXPECT_LT(a.ballast, 1e-7) << c.label;
     EXPECT_LT(a.roll_rad, 1e-12) << c.label;
@@ -176,9 +166,9 @@ TEST(FullWidthPassage, SymmetricDefectReproducesTheHalfModel) {
 // (a) Random irregularity identical on both rails (coherence 1, no decay) is a symmetric input too
 // (CLM, convected start: this test runs the full-width start under the sanitizers).
 TEST(FullWidthPassage, IdenticalRandomIrregularityReproducesTheHalfModel) {
-  const Agreement a = compareWithHalf(
-      with(kOverDefect, {"unevenness.random.enabled=true", "unevenness.random.coherence=1.0",
-                         "unevenness.random.coherence_decay_m_rad=0", "simulation.convected_track_start=true"}));
+  const Agreement a = compareWithHalf(with(
+      kOverDefectToRoundOff, {"unevenness.random.enabled=true", "unevenness.random.coherence=1.0",
+                              "unevenness.random.coherence_decay_m_rad=0", "simulation.convected_track_start=true"}));
   EXPECT_LT(a.contact, 1e-7);
   EXPECT_LT(a.ballast, 1e-7);
   EXPECT_LT(a.roll_rad, 1e-12);
@@ -217,7 +207,7 @@ TEST(FullWidthPassage, StaticStartGivesEachWheelTheHalfModelsLoad) {
 // carries its static load, and over the run the wheels together carry the vehicle's weight on
 // average (momentum: the mean of sum F - W is the change of the vertical momentum over the run).
 TEST(FullWidthPassage, DefectOnOneRailRollsTheVehicle) {
-  PassageRun full(with(kOverDefect, {"unevenness.defect.rails=left"}), true);
+  PassageRun full(with(kOverDefectToRoundOff, {"unevenness.defect.rails=left"}), true);
   full.simulate(false);
   const int left = full.model.wheelIndex(0, track::Rail::Left);
   const int right = full.model.wheelIndex(0, track::Rail::Right);
@@ -235,7 +225,7 @@ TEST(FullWidthPassage, DefectOnOneRailRollsTheVehicle) {
   }
   const double f0 = full.static_force[left];
   // the axle's static load: the half model's two wheels, before the wheel reaches the defect
-  PassageRun half(with(kOverDefect, {"unevenness.defect.enabled=false"}), false);
+  PassageRun half(with(kOverDefectToRoundOff, {"unevenness.defect.enabled=false"}), false);
   VehiclePassage h(half.model, half.unevenness, half.pp, makeRailSupport(half.pp, half.tp));
   const double axle_load = 2.0 * h.initialState().contact_force_n[0];
   EXPECT_NEAR((full.force(0, left) + full.force(0, right)) / axle_load, 1.0, 1e-9);
@@ -330,11 +320,12 @@ TEST(FullWidthPassage, RefusesUnevennessForRailsThatDoNotExist) {
 // impacts and the losses of contact, where delta varies fastest). Bound: 1e-3 of the work.
 TEST(FullWidthPassage, UndampedVehicleWorkEnergyBalanceOverAOneRailDefect) {
   const std::string t = "vehicles.t2000.suspension_stages.";
-  PassageRun full(with(kOverDefect, {"simulation.vehicle_track=rigid", "unevenness.defect.rails=left",
-                                     "simulation.time_step_s=1.0e-5", t + "secondary.damping_n_s_m=0",
-                                     t + "motor_primary.damping_n_s_m=0", t + "trailer_primary.damping_n_s_m=0",
-                                     t + "resilient_ring.damping_n_s_m=0"}),
-                  true);
+  PassageRun full(
+      with(kOverDefectToRoundOff,
+           {"simulation.vehicle_track=rigid", "unevenness.defect.rails=left", "simulation.time_step_s=1.0e-5",
+            t + "secondary.damping_n_s_m=0", t + "motor_primary.damping_n_s_m=0", t + "trailer_primary.damping_n_s_m=0",
+            t + "resilient_ring.damping_n_s_m=0"}),
+      true);
   const VehicleModel& m = full.model;
   ASSERT_EQ(m.damping().norm(), 0.0);
   VehiclePassage run(m, full.unevenness, full.pp, makeRailSupport(full.pp, full.tp));
@@ -455,13 +446,14 @@ TEST(FullWidthPassage, UnevennessPerRail) {
 // and strain energy and takes the Hertz compression against the rail.
 TEST(FullWidthPassage, UndampedCoupledSystemWorkEnergyBalance) {
   const std::string t = "vehicles.t2000.suspension_stages.";
-  PassageRun full(with(kOverDefect, {"simulation.time_step_s=1.0e-5", "unevenness.defect.rails=left",
-                                     t + "secondary.damping_n_s_m=0", t + "motor_primary.damping_n_s_m=0",
-                                     t + "trailer_primary.damping_n_s_m=0", t + "resilient_ring.damping_n_s_m=0",
-                                     "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
-                                     "track.ballast.damping_n_s_m=0", "track.foundation.clm.damping_n_s_m=0",
-                                     "track.foundation.clm.coupling_damping_n_s_m=0"}),
-                  true);
+  PassageRun full(
+      with(kOverDefectToRoundOff,
+           {"simulation.time_step_s=1.0e-5", "unevenness.defect.rails=left", t + "secondary.damping_n_s_m=0",
+            t + "motor_primary.damping_n_s_m=0", t + "trailer_primary.damping_n_s_m=0",
+            t + "resilient_ring.damping_n_s_m=0", "track.ends.absorbing_length_m=0", "track.railpad.damping_n_s_m=0",
+            "track.ballast.damping_n_s_m=0", "track.foundation.clm.damping_n_s_m=0",
+            "track.foundation.clm.coupling_damping_n_s_m=0"}),
+      true);
   const VehicleModel& m = full.model;
   ASSERT_EQ(m.damping().norm(), 0.0);
   VehiclePassage run(m, full.unevenness, full.pp, makeRailSupport(full.pp, full.tp));

@@ -16,16 +16,13 @@
 #include "railvib/track/track_model.hpp"
 #include "railvib/track/track_newmark.hpp"
 #include "railvib/vehicle/passage.hpp"
+#include "vehicle_test_util.hpp"
 
 using namespace railvib;
 using namespace railvib::vehicle;
+using railvib::vehicle::test::with;
 
 namespace {
-
-std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
 
 struct LayeredRun {
   explicit LayeredRun(const std::vector<std::string>& overrides)

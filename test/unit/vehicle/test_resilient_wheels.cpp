@@ -19,20 +19,14 @@
 #include "railvib/vehicle/modal.hpp"
 #include "railvib/vehicle/passage.hpp"
 #include "railvib/vehicle/resilient_wheel.hpp"
+#include "vehicle_test_util.hpp"
 
 using namespace railvib;
 using namespace railvib::vehicle;
+using railvib::vehicle::test::haren;
+using railvib::vehicle::test::with;
 
 namespace {
-
-std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
-
-Config haren(const std::vector<std::string>& overrides) {
-  return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
-}
 
 VehicleModel modelOf(const std::vector<std::string>& overrides) {
   return VehicleModel(loadVehicleParams(haren(overrides).root()));

@@ -12,15 +12,13 @@
 #include "railvib/track/track_stepper.hpp"
 #include "railvib/vehicle/modal.hpp"
 #include "railvib/vehicle/passage.hpp"
+#include "vehicle_test_util.hpp"
 
 using namespace railvib;
 using namespace railvib::vehicle;
+using railvib::vehicle::test::haren;
 
 namespace {
-
-Config haren(const std::vector<std::string>& overrides = {}) {
-  return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
-}
 
 /// Stiffness (N/m) of a suspension stage of the scenario's vehicle.
 double stageStiffness(const VehicleParams& p, const std::string& stage) {

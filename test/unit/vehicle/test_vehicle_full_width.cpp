@@ -13,19 +13,20 @@
 #include <string>
 #include <vector>
 
+#include "../track/track_test_util.hpp"
 #include "railvib/common/config.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/modal.hpp"
 #include "railvib/vehicle/passage.hpp"
+#include "vehicle_test_util.hpp"
 
 using namespace railvib;
 using namespace railvib::vehicle;
+using railvib::track::test::worstRelative;
+using railvib::vehicle::test::haren;
+using railvib::vehicle::test::sci;
 
 namespace {
-
-Config haren(std::vector<std::string> overrides = {}) {
-  return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
-}
 
 /// The scenario's vehicle `name`, half (body_share_per_rail 0.5, haren.yaml) or full width.
 VehicleModel scenarioVehicle(const std::string& name, bool full, std::vector<std::string> overrides = {}) {
@@ -75,18 +76,6 @@ double nearestRelative(const std::vector<double>& fs, double f) {
   double best = 1e300;
   for (double x : fs) best = std::min(best, std::abs(x / f - 1.0));
   return best;
-}
-
-std::string sci(double v) {
-  std::ostringstream s;
-  s << std::setprecision(3) << v;
-  return s.str();
-}
-
-double worstRelative(const std::vector<std::complex<double>>& a, const std::vector<std::complex<double>>& b) {
-  double worst = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]) / std::abs(b[i]));
-  return worst;
 }
 
 }  // namespace
