@@ -67,11 +67,8 @@ nlohmann::json validateScenario(const Config& config) {
   const track::TrackParams track = track::loadTrackParams(root);
   const vehicle::UnevennessParams unevenness = vehicle::loadUnevennessParams(root);
   const building::BuildingParams house = building::loadBuildingParams(root);
-  soil::HouseReceivers receivers{building::freeFieldPoints(house), {}};
-  for (const auto& f : building::footprintPoints(house)) {
-    receivers.footprint.push_back({f.name, f.x_track_m, f.y_track_m, f.z_track_m, ""});
-  }
-  const soil::SoilParams soil = soil::loadSoilParams(root, receivers);
+  // The soil's receivers as the soil node asks for them, the house's footprint included.
+  const soil::SoilParams soil = soil::loadSoilParams(root, coupling::houseReceivers(root, true));
   // The house in the soil (two-way): what the soil node would refuse, refused here.
   if (house.coupling == building::SoilCoupling::TwoWay) coupling::checkHouseInSoil(root, house, soil);
   loadSiteLayout(root);
