@@ -319,9 +319,8 @@ void SoilModel::recordOutputs() {
 
 namespace {
 // The mean of an accumulated field, into the snapshot's field of the same component; the sum restarts.
-void takeMean(std::vector<double>& acc, uint64_t count, int component, std::vector<float>& vx, std::vector<float>& vy,
-              std::vector<float>& vz) {
-  std::vector<float>& out = component == 0 ? vx : component == 1 ? vy : vz;
+void takeMean(std::vector<double>& acc, uint64_t count, int component, SnapshotVelocity& snapshot) {
+  std::vector<float>& out = snapshot.component(component);
   out.resize(acc.size());
   for (size_t i = 0; i < acc.size(); ++i) out[i] = static_cast<float>(acc[i] / static_cast<double>(count));
   std::fill(acc.begin(), acc.end(), 0.0);
@@ -340,7 +339,7 @@ void SoilModel::emitSnapshots() {
   s.dx_m = m.hx;
   s.dy_m = m.hy;
   for (size_t q = 0; q < snap_components_.size(); ++q) {
-    takeMean(surf_acc_[q], snap_acc_n_, snap_components_[q], s.vx_m_s, s.vy_m_s, s.vz_up_m_s);
+    takeMean(surf_acc_[q], snap_acc_n_, snap_components_[q], s);
   }
   snaps_.push_back(std::move(s));
   if (params_.section_enabled) {
@@ -353,7 +352,7 @@ void SoilModel::emitSnapshots() {
     c.dy_m = m.hy;
     c.depth_m = m.z;
     for (size_t q = 0; q < snap_components_.size(); ++q) {
-      takeMean(sect_acc_[q], snap_acc_n_, snap_components_[q], c.vx_m_s, c.vy_m_s, c.vz_up_m_s);
+      takeMean(sect_acc_[q], snap_acc_n_, snap_components_[q], c);
     }
     section_snaps_.push_back(std::move(c));
   }
@@ -395,13 +394,17 @@ void SoilModel::takeReceiverSamples(ReceiverBlock& out) {
 
 bool SoilModel::spread() const { return !solver_->partition().single(); }
 
+// Every rank holds its own nodes' values and zeros for the others: the sum on rank 0 is the field.
+void SoilModel::sumToRoot(SnapshotVelocity& snapshot) {
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float>& field = snapshot.component(c);
+    if (!field.empty()) solver_->comm().sumToRoot(field.data(), field.size());
+  }
+}
+
 void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
   for (auto& s : snaps_) {
-    if (spread()) {
-      for (std::vector<float>* field : {&s.vx_m_s, &s.vy_m_s, &s.vz_up_m_s}) {
-        if (!field->empty()) solver_->comm().sumToRoot(field->data(), field->size());
-      }
-    }
+    if (spread()) sumToRoot(s);
     out.push_back(std::move(s));
   }
   snaps_.clear();
@@ -409,11 +412,7 @@ void SoilModel::takeSnapshots(std::vector<SurfaceSnapshot>& out) {
 
 void SoilModel::takeSectionSnapshots(std::vector<SectionSnapshot>& out) {
   for (auto& s : section_snaps_) {
-    if (spread()) {
-      for (std::vector<float>* field : {&s.vx_m_s, &s.vy_m_s, &s.vz_up_m_s}) {
-        if (!field->empty()) solver_->comm().sumToRoot(field->data(), field->size());
-      }
-    }
+    if (spread()) sumToRoot(s);
     out.push_back(std::move(s));
   }
   section_snaps_.clear();

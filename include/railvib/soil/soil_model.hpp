@@ -45,28 +45,34 @@ struct ReceiverBlock {
   size_t frames() const { return names.empty() ? 0 : velocity_m_s.size() / (3 * names.size()); }
 };
 
+/// A snapshot's velocity fields, frame track: vx_m_s along the track, vy_m_s across it, vz_up_m_s up
+/// (the horizontal ones empty when soil.output.snapshot_components is "vertical").
+struct SnapshotVelocity {
+  std::vector<float> vx_m_s, vy_m_s, vz_up_m_s;
+  /// The field of component c (0 x, 1 y, 2 z up).
+  std::vector<float>& component(int c) { return c == 0 ? vx_m_s : c == 1 ? vy_m_s : vz_up_m_s; }
+};
+
 /// The surface's velocity at the snapshot rate, box-averaged in time over [t - T/2, t + T/2).
 /// Frame track: vx_m_s along the track, vy_m_s across it, vz_up_m_s up. The horizontal fields are
 /// empty when soil.output.snapshot_components is "vertical".
-struct SurfaceSnapshot {
+struct SurfaceSnapshot : SnapshotVelocity {
   uint64_t index = 0;
   double time_s = 0.0;
   size_t nx_nodes = 0, ny_nodes = 0;  // x fastest
   double x0_m = 0.0, y0_m = 0.0, dx_m = 0.0, dy_m = 0.0;
-  std::vector<float> vx_m_s, vy_m_s, vz_up_m_s;
 };
 
 /// The velocity on the vertical plane x = x_m (the node plane nearest to it) across the whole box:
 /// y fastest, then depth; box-averaged in time and with the same components as SurfaceSnapshot
 /// (paper, Fig. 16).
-struct SectionSnapshot {
+struct SectionSnapshot : SnapshotVelocity {
   uint64_t index = 0;
   double time_s = 0.0;
   double x_m = 0.0;
   size_t ny_nodes = 0;
   double y0_m = 0.0, dy_m = 0.0;
   std::vector<double> depth_m;  // node plane depths (m, down), one per row
-  std::vector<float> vx_m_s, vy_m_s, vz_up_m_s;
 };
 
 /// The mesh's inclusions as meshed (name, kind, elements, how far snapping moved a face, the box in
@@ -146,6 +152,7 @@ class SoilModel {
  private:
   void recordOutputs();
   void emitSnapshots();
+  void sumToRoot(SnapshotVelocity& snapshot);
   bool spread() const;
 
   SoilParams params_;
