@@ -21,7 +21,7 @@
   tram poses on /tf and the RViz scene (soil surface clouds equal to the recorded
   snapshots, site markers), probed by replay_probe.py.
 
-usage: scenario_checks.py RESULTS_XML
+usage: scenario_checks.py RESULTS_XML [NAME_PART]   (NAME_PART: only those checks, no results written)
 """
 import json
 import os
@@ -43,7 +43,7 @@ import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
-from junit_xml import write_junit  # noqa: E402
+from junit_xml import run_verbose, write_junit  # noqa: E402
 
 LAUNCHER = str(ROOT / "scripts" / "launch_scenario.py")
 
@@ -280,24 +280,44 @@ class ScenarioChecks(unittest.TestCase):
         PORT[0] = railvib_process.free_port()
         env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{PORT[0]}")
         probe_out = WORK / "replay_probe.json"
-        replay = subprocess.Popen(["roslaunch", "-p", str(PORT[0]), "railvib", "replay.launch", "bag:=" + str(source),
-                                   "visualization:=true", "start_delay_s:=4", "rate:=1.0"],
-                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
-                                  start_new_session=True)
-        probe = subprocess.Popen([sys.executable, str(pathlib.Path(__file__).with_name("replay_probe.py")),
-                                  str(probe_out)], env=env, start_new_session=True)
-        time.sleep(25.0)  # start-up, the 4 s delay, 0.5 s of replay, and margin for a loaded machine
-        railvib_process.stop(probe)
-        out, _ = railvib_process.stop(replay, grace_s=60.0)
-        self.assertTrue(probe_out.exists(), "the probe wrote nothing:\n" + out[-3000:])
-        got = json.loads(probe_out.read_text())
-
         with rosbag.Bag(str(source)) as bag:
             snapshots = {m.header.stamp.to_nsec(): m for _, m, _ in bag.read_messages(topics=[names.SURFACE_SNAPSHOT])}
             recorded_metrics = {}
             for _, m, _ in bag.read_messages(topics=[names.SENSOR_METRICS]):
                 recorded_metrics[m.sensor_name] = m  # the last one covers the whole run
             tf_count = sum(1 for _ in bag.read_messages(topics=["/tf"]))
+
+        def replayed_everything(got):
+            # Every cloud and pose, and each sensor's metrics at their recorded end values: the replay is over.
+            return (len(got["clouds"]) >= len(snapshots) and got["tf_messages"] >= tf_count and got["marker_frames"]
+                    and sorted(got["metrics"]) == sorted(recorded_metrics)
+                    and all(got["metrics"][n]["kb_f_max"] >= m.kb_f_max * (1.0 - 1e-9)
+                            and got["metrics"][n]["ppv_m_s"] >= m.ppv_m_s * (1.0 - 1e-9)
+                            for n, m in recorded_metrics.items()))
+
+        replay_log = WORK / "replay.log"
+        with open(replay_log, "w") as log:
+            replay = subprocess.Popen(["roslaunch", "-p", str(PORT[0]), "railvib", "replay.launch",
+                                       "bag:=" + str(source), "visualization:=true", "start_delay_s:=4", "rate:=1.0"],
+                                      stdout=log, stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
+        probe = subprocess.Popen([sys.executable, str(pathlib.Path(__file__).with_name("replay_probe.py")),
+                                  str(probe_out)], env=env, start_new_session=True)
+        # The probe rewrites its file as messages come; the replay stays up once the bag is done, so the
+        # test waits for what the bag holds (start-up, the 4 s delay, 0.5 s of replay) with a deadline.
+        got, deadline = None, time.monotonic() + 120.0
+        while time.monotonic() < deadline and replay.poll() is None:
+            try:
+                got = json.loads(probe_out.read_text())
+            except (OSError, ValueError):
+                got = None  # not written yet, or caught mid-write
+            if got is not None and replayed_everything(got):
+                break
+            time.sleep(0.2)
+        railvib_process.stop(probe)
+        railvib_process.stop(replay, grace_s=60.0)
+        out = replay_log.read_text()
+        self.assertTrue(probe_out.exists(), "the probe wrote nothing:\n" + out[-3000:])
+        got = json.loads(probe_out.read_text())
 
         self.assertGreater(len(snapshots), 0)
         self.assertGreater(len(recorded_metrics), 0)
@@ -407,15 +427,16 @@ class ScenarioChecks(unittest.TestCase):
         self.assertEqual(exposed, {}, "servers listening beyond loopback with ROS_IP=127.0.0.1")
 
 
-
 if __name__ == "__main__":
     CONFIG = str(pathlib.Path(__file__).resolve().parents[2] / "config" / "haren_ci.yaml")
     if not pathlib.Path(CONFIG).exists():
         CONFIG = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "config", "haren_ci.yaml")
     railvib_process.interrupts_by_default()
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(ScenarioChecks)
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
-    if len(sys.argv) > 1:
+    if len(sys.argv) > 2:  # scenario_checks.py OUT.xml NAME_PART: only the checks whose name holds it
+        suite = unittest.TestSuite(t for t in suite if sys.argv[2] in t.id())
+    result = run_verbose(suite)
+    if len(sys.argv) == 2:  # a filtered run writes no results: they would list the checks it left out
         write_junit(result, "scenario_checks", ScenarioChecks, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)
