@@ -1,7 +1,32 @@
 """JUnit XML of a unittest run (what scripts/test_summary.py and CTest's result folder read)."""
 import pathlib
+import time
 import unittest
 import xml.etree.ElementTree as ET
+
+
+class TimedTextTestResult(unittest.TextTestResult):
+    """A verbose result that also keeps each test's wall time (seconds by test id), written as the JUnit
+    time of its case: where a suite's time goes."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.seconds = {}
+        self._started = {}
+
+    def startTest(self, test):
+        self._started[test.id()] = time.monotonic()
+        super().startTest(test)
+
+    def stopTest(self, test):
+        super().stopTest(test)
+        if test.id() in self._started:
+            self.seconds[test.id()] = time.monotonic() - self._started.pop(test.id())
+
+
+def run_verbose(suite):
+    """The suite run as unittest's verbose runner runs it, each test timed."""
+    return unittest.TextTestRunner(verbosity=2, resultclass=TimedTextTestResult).run(suite)
 
 
 def write_junit(result, suite_name, case_class, path):
@@ -20,7 +45,8 @@ def write_junit(result, suite_name, case_class, path):
         # it kept from running did not pass.
         setup_failed = any(cls.__name__ in i and i not in {t.id() for t in tests} for i in errored)
         for test in tests:
-            case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1])
+            case = ET.SubElement(suite, "testcase", classname=cls.__name__, name=test.id().split(".")[-1],
+                                 time=f"{getattr(result, 'seconds', {}).get(test.id(), 0.0):.3f}")
             if test.id() in failed:
                 ET.SubElement(case, "failure", message="failed").text = failed[test.id()]
             if test.id() in errored:

@@ -27,7 +27,7 @@ import bag_check  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
 from compare_bags import compare_topic  # noqa: E402
-from junit_xml import write_junit  # noqa: E402
+from junit_xml import run_verbose, write_junit  # noqa: E402
 
 LAUNCHER = str(ROOT / "scripts" / "launch_scenario.py")
 CONFIG = str(ROOT / "config" / "haren_ci.yaml")
@@ -169,7 +169,7 @@ if __name__ == "__main__":
     TEST_SOIL_MPI = sys.argv[1]
     railvib_process.interrupts_by_default()
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(NetnsHosts)
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    result = run_verbose(suite)
     write_junit(result, "netns_hosts", NetnsHosts, sys.argv[2])
     shutil.rmtree(WORK, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() else 1)

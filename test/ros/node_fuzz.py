@@ -607,7 +607,9 @@ def run(selected_nodes=None, only=None, progress=True):
                 continue
             if only and only not in case[1]:
                 continue
+            started = time.monotonic()
             r = run_case(h, sc, i, case)
+            r["seconds"] = round(time.monotonic() - started, 2)  # where the fuzz's time goes (the JSON)
             results.append(r)
             if progress:
                 print(f"[{r['outcome']:>8}] {r['group']}: {r['case']}  {r.get('detail', '')[:160]}", flush=True)
@@ -620,7 +622,8 @@ def write_junit(results, path):
     suite = ET.Element("testsuite", name="node_fuzz", tests=str(len(results)),
                        failures=str(sum(r["outcome"] not in ("refused", "finished") for r in results)))
     for r in results:
-        case = ET.SubElement(suite, "testcase", classname="NodeFuzz." + r["group"].replace(" ", "_"), name=r["case"])
+        case = ET.SubElement(suite, "testcase", classname="NodeFuzz." + r["group"].replace(" ", "_"), name=r["case"],
+                             time=str(r.get("seconds", 0.0)))
         if r["outcome"] not in ("refused", "finished"):
             ET.SubElement(case, "failure", message=r["outcome"]).text = r.get("detail", "") + "\n" + r.get("log", "")
     pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)

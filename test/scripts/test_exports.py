@@ -38,7 +38,7 @@ sys.path.insert(0, str(SCRIPTS))
 sys.path.insert(0, str(ROOT / "test" / "scripts"))
 import bag_check  # noqa: E402
 sys.path.insert(0, str(ROOT / "test" / "ros"))
-from junit_xml import write_junit  # noqa: E402
+from junit_xml import run_verbose, write_junit  # noqa: E402
 import railvib_names as names  # noqa: E402
 
 import rosbag  # noqa: E402
@@ -618,7 +618,7 @@ if __name__ == "__main__":
     suite = unittest.TestSuite()
     for cls in CLASSES:
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    result = run_verbose(suite)
     if len(sys.argv) > 1:
         write_junit(result, "export_tests", CLASSES, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)

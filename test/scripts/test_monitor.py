@@ -42,7 +42,7 @@ import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
 from rviz_screenshot import xwd_to_rgb  # noqa: E402
 sys.path.insert(0, str(ROOT / "test" / "ros"))
-from junit_xml import write_junit  # noqa: E402
+from junit_xml import run_verbose, write_junit  # noqa: E402
 
 import matplotlib.image  # noqa: E402  (rviz_screenshot has chosen the Agg backend)
 
@@ -365,7 +365,7 @@ class Monitor(unittest.TestCase):
 if __name__ == "__main__":
     started = time.monotonic()
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(Monitor)
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    result = run_verbose(suite)
     if len(sys.argv) > 1:
         write_junit(result, "monitor_tests", Monitor, sys.argv[1])
     print(f"test_monitor: {time.monotonic() - started:.1f} s; files in {WORK}" if not result.wasSuccessful()

@@ -35,7 +35,7 @@ sys.path.insert(0, str(SCRIPTS))
 import railvib_yaml  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 sys.path.insert(0, str(ROOT / "test" / "ros"))
-from junit_xml import write_junit  # noqa: E402
+from junit_xml import run_verbose, write_junit  # noqa: E402
 
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_properties_"))
 TOOL = os.environ.get("RAILVIB_TOOL") or find_railvib_tool()
@@ -233,7 +233,7 @@ if __name__ == "__main__":
     suite = unittest.TestSuite()
     for cls in CLASSES:
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    result = run_verbose(suite)
     if len(sys.argv) > 1:
         write_junit(result, "property_tests", CLASSES, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
