@@ -42,7 +42,7 @@ SCRIPTS = ROOT / "scripts"
 sys.path.insert(0, str(SCRIPTS))
 import bag_check  # noqa: E402
 sys.path.insert(0, str(ROOT / "test" / "ros"))
-from junit_xml import write_junit  # noqa: E402
+from junit_xml import run_verbose, write_junit  # noqa: E402
 import launch_scenario  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
@@ -856,12 +856,14 @@ echo "start $(date +%s.%N)" >> "$ws/builds"
 echo "args $*" >> "$ws/launcher"
 echo "CCACHE_BASEDIR=${CCACHE_BASEDIR:-unset} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-unset}" >> "$ws/launcher"
 if [ -n "$FAKE_FAIL" ]; then
-  for i in $(seq 1 80); do echo "[ $i%] Building CXX object src/common/error_code.cpp.o -Werror=return-type"; done
+  # ninja's way of saying it (catkin_make --use-ninja)
+  for i in $(seq 1 80); do echo "[$i/120] Building CXX object src/common/error_code.cpp.o -Werror=return-type"; done
+  echo "FAILED: railvib/CMakeFiles/railvib_soil.dir/kernel.cpp.o"
   echo "/src/soil/kernel.cpp:42:7: error: 'stiffnes' was not declared in this scope"
   echo "   42 |       stiffnes += 1;"
   echo "      |       ^~~~~~~~"
   for i in $(seq 1 30); do echo "note: Error handling in unit $i"; done
-  echo "make[2]: *** [CMakeFiles/railvib_core.dir/build.make:76: kernel.cpp.o] Error 1"
+  echo "ninja: build stopped: subcommand failed."
   rm -f "$ws/building"
   exit 2
 fi
@@ -928,6 +930,27 @@ class Workspace(unittest.TestCase):
             self.assertEqual(r.returncode, 1, args)
             self.assertRegex(r.stderr, r"master port '.*': a number from 1024 to 65535|--port needs a number", args)
             self.assertFalse((self.root / ".ws" / "builds").exists(), args)
+
+    def test_the_build_uses_ninja_and_reconfigures_a_tree_that_make_built(self):
+        # CMake refuses to change a build tree's generator in place: the cache of a make-built workspace
+        # goes (its objects stay, for ccache and the clean-up of later builds); a Ninja tree is kept.
+        build = self.root / ".ws" / "build"
+        (build / "CMakeFiles").mkdir(parents=True)
+        (build / "CMakeCache.txt").write_text("CMAKE_GENERATOR:INTERNAL=Unix Makefiles\n")
+        (build / "unit_tests").mkdir()
+        p = self.setup_command()
+        _, err = p.communicate(timeout=120)
+        self.assertEqual(p.returncode, 0, err)
+        self.assertIn("args --use-ninja ", (self.root / ".ws" / "launcher").read_text())
+        self.assertFalse((build / "CMakeCache.txt").exists())
+        self.assertFalse((build / "CMakeFiles").exists())
+        self.assertTrue((build / "unit_tests").exists())
+        (build / "CMakeFiles").mkdir()
+        (build / "CMakeCache.txt").write_text("CMAKE_GENERATOR:INTERNAL=Ninja\n")
+        p = self.setup_command()
+        _, err = p.communicate(timeout=120)
+        self.assertEqual(p.returncode, 0, err)
+        self.assertTrue((build / "CMakeCache.txt").exists())
 
     def test_a_failed_build_shows_the_compilers_error_lines(self):
         p = self.setup_command(FAKE_FAIL="1")
@@ -1103,7 +1126,7 @@ if __name__ == "__main__":
     suite = unittest.TestSuite()
     for cls in CLASSES:
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(cls))
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    result = run_verbose(suite)
     if len(sys.argv) > 1:
         write_junit(result, "script_tests", CLASSES, sys.argv[1])
     shutil.rmtree(WORK, ignore_errors=True)
