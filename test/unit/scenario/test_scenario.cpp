@@ -20,6 +20,7 @@
 #include "railvib/common/machine.hpp"
 #include "railvib/common/plausibility.hpp"
 #include "railvib/scenario/scenario.hpp"
+#include "test_sampling.hpp"
 
 namespace fs = std::filesystem;
 using railvib::Config;
@@ -165,13 +166,9 @@ TEST(Scenario, GroundSensorsOnTheTwoWayFoundationAreNamed) {
   EXPECT_TRUE(notes({placed("0.0", "4.7075")}).empty());  // 1 cm in front of the front wall
 }
 
-// Every case in the regular build; every n-th (RAILVIB_FUZZ_STRIDE = n) in the sanitizer build, where
-// one scenario check takes ~10 x longer (./railvib sanitize sets it).
-size_t fuzzStride() {
-  const char* s = std::getenv("RAILVIB_FUZZ_STRIDE");
-  const long n = s ? std::strtol(s, nullptr, 10) : 1;
-  return n >= 1 ? static_cast<size_t>(n) : 1;
-}
+// Every case in the regular build; every n-th in the sanitizer run, where one scenario check takes
+// ~10 x longer (test_sampling.hpp).
+size_t fuzzStride() { return railvib::test::sampleStride(); }
 
 TEST(ScenarioFuzz, EveryValueReplacedByNonsenseIsRefusedByItsKey) {
   const YAML::Node tree = ciTree();
