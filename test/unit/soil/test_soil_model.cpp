@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -107,7 +108,8 @@ TEST(SoilModel, StreamingInBlocksEqualsOneBlockAndChecksContinuity) {
   EXPECT_GT(peak, 0.0);
   // About 10 snapshots for 0.1 s at 100 Hz, on the surface grid; roundtrip through the binary file.
   ASSERT_GE(a.second.size(), 9u);
-  const std::string path = ::testing::TempDir() + "/soil_snap_test.snap";
+  // per process: a sanitizer run and a regular one may run this test at once
+  const std::string path = ::testing::TempDir() + "/soil_snap_test_" + std::to_string(::getpid()) + ".snap";
   writeSnapshots(path, a.second);
   const auto back = readSnapshots(path);
   ASSERT_EQ(back.size(), a.second.size());

@@ -2,10 +2,12 @@
 // their recorded verdicts, and the chain claims judge synthetic records the way they say.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -19,6 +21,23 @@ using namespace railvib::validation;
 namespace {
 Config haren(const std::vector<std::string>& overrides = {}) {
   return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
+}
+
+// This run's own folder for the records it writes (two runs at once, e.g. a workspace's and a clone's,
+// must not overwrite each other's), removed when the tests end.
+struct ScratchDir {
+  std::filesystem::path path = std::filesystem::path(::testing::TempDir()) /
+                               ("railvib_validation_" + std::to_string(::getpid()));
+  ScratchDir() { std::filesystem::create_directories(path); }
+  ~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
+
+std::string scratchFile(const std::string& name) {
+  static const ScratchDir dir;
+  return (dir.path / name).string();
 }
 }  // namespace
 
@@ -47,7 +66,7 @@ namespace {
 /// time `floor_decay_s`; the soil at the house's response point moves as `response_point_scale` x g.
 std::string writeRecords(const std::string& name, double f_ground_hz, double f_floor_hz, double floor_decay_s,
                          double response_point_scale = 0.8) {
-  const std::string path = std::string(::testing::TempDir()) + "/" + name + ".csv";
+  const std::string path = scratchFile(name + ".csv");
   std::ofstream f(path);
   f << "t_s,ground_2m_vz_m_s,ground_8m_vz_m_s,house_ground_floor_vz_m_s,house_first_floor_vz_m_s,"
        "bldg_response_point_vz_m_s\n";
@@ -203,7 +222,7 @@ TEST(Validation, CommandExitsFourWhenAClaimThatAgreedDiffers) {
   const auto a = chainClaims(cfg, paper_rec, nullptr);
   EXPECT_EQ(find(a, "chain.winkler_vs_clm").verdict, Verdict::Pending);
   EXPECT_FALSE(find(a, "chain.winkler_vs_clm").regressed());  // pending: not judged
-  const std::string md = std::string(::testing::TempDir()) + "/cli_table.md";
+  const std::string md = scratchFile("cli_table.md");
   EXPECT_EQ(validateExit("--no-models --chain " + paper + " --markdown " + md), anyRegressed(a) ? 4 : 0);
   std::ifstream f(md);
   std::stringstream table;
