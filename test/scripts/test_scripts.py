@@ -945,6 +945,8 @@ class Workspace(unittest.TestCase):
         self.assertFalse((build / "CMakeCache.txt").exists())
         self.assertFalse((build / "CMakeFiles").exists())
         self.assertTrue((build / "unit_tests").exists())
+        # the command says where its time went (the phases it ran)
+        self.assertRegex(err, r"railvib:\S* time: build \d+ min \d\d s; total \d+ min \d\d s")
         (build / "CMakeFiles").mkdir()
         (build / "CMakeCache.txt").write_text("CMAKE_GENERATOR:INTERNAL=Ninja\n")
         p = self.setup_command()
