@@ -855,6 +855,8 @@ echo "start $(date +%s.%N)" >> "$ws/builds"
 # What the compiler launcher would see: the arguments and the ccache settings in the environment.
 echo "args $*" >> "$ws/launcher"
 echo "CCACHE_BASEDIR=${CCACHE_BASEDIR:-unset} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-unset}" >> "$ws/launcher"
+echo "nice $(ps -o ni= -p $$ | tr -d ' ')" >> "$ws/launcher"
+mkdir -p "$ws/build" "$ws/devel" && touch "$ws/devel/setup.bash"
 if [ -n "$FAKE_FAIL" ]; then
   # ninja's way of saying it (catkin_make --use-ninja)
   for i in $(seq 1 80); do echo "[$i/120] Building CXX object src/common/error_code.cpp.o -Werror=return-type"; done
@@ -870,6 +872,14 @@ fi
 sleep 1.5
 echo "end $(date +%s.%N)" >> "$ws/builds"
 rm -f "$ws/building"
+'''
+
+
+# A stand-in for ctest: notes when it ran and leaves time for a build beside it.
+FAKE_CTEST = r'''#!/bin/sh
+echo "start $(date +%s.%N)" >> "$FAKE_CTEST_LOG"
+sleep 4
+echo "end $(date +%s.%N)" >> "$FAKE_CTEST_LOG"
 '''
 
 
@@ -953,6 +963,30 @@ class Workspace(unittest.TestCase):
         _, err = p.communicate(timeout=120)
         self.assertEqual(p.returncode, 0, err)
         self.assertTrue((build / "CMakeCache.txt").exists())
+
+    def test_the_sanitizer_build_compiles_beside_the_tests_at_the_lowest_priority(self):
+        # ./railvib test: the Release build first, then the tests with the sanitizer build beside them at
+        # nice 19 (it takes only the CPU the tests leave idle); its tests wait for it. Nothing here passes
+        # (no test results, no sanitizer binaries), so the command must fail, and still say its phases.
+        bin_dir = self.root / "bin"
+        bin_dir.mkdir()
+        (bin_dir / "ctest").write_text(FAKE_CTEST)
+        (bin_dir / "ctest").chmod(0o755)
+        log = self.root / "ctest_log"
+        env = {**self.env, "RAILVIB_CTEST": str(bin_dir / "ctest"), "FAKE_CTEST_LOG": str(log)}
+        r = subprocess.run(["bash", str(self.root / "railvib"), "test"], env=env, capture_output=True, text=True,
+                           timeout=120)
+        self.assertNotEqual(r.returncode, 0, r.stderr)
+        ctest = [float(line.split()[1]) for line in log.read_text().splitlines()]
+        release = (self.root / ".ws" / "builds").read_text().split()
+        san = (self.root / ".ws_san" / "builds").read_text().split()
+        self.assertLessEqual(float(release[3]), ctest[0])  # the Release build ended before the tests
+        self.assertLess(float(san[1]), ctest[1])  # the sanitizer build began while they ran
+        self.assertGreater(float(san[1]), float(release[3]))
+        self.assertIn("nice 0", (self.root / ".ws" / "launcher").read_text())
+        self.assertIn("nice 19", (self.root / ".ws_san" / "launcher").read_text())
+        self.assertRegex(r.stderr, r"time: build .*, tests \(the sanitizer build beside them\) \d+ min \d\d s, "
+                                   r"sanitizer build \(after the tests\) \d+ min \d\d s, sanitizer tests ")
 
     def test_a_failed_build_shows_the_compilers_error_lines(self):
         p = self.setup_command(FAKE_FAIL="1")
