@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -353,6 +354,83 @@ YAML::Node loadFileRecursive(const fs::path& file, const fs::path& includer,
   return merged;
 }
 
+// One step of an override's key path: a key, then the list indices after it ("layers[2]": layers, {2}).
+struct OverrideStep {
+  std::string key;
+  std::vector<size_t> indices;
+};
+
+std::vector<OverrideStep> parseOverridePath(const std::string& path, const std::string& assignment) {
+  const auto refuse = [&](const std::string& why) {
+    throw ConfigError("config error: override '" + assignment + "': " + why +
+                      " (a key path is key.key[INDEX].key, the index counting list entries from 0)");
+  };
+  std::vector<OverrideStep> steps;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) refuse("empty key in path");
+    OverrideStep step;
+    const auto bracket = part.find('[');
+    step.key = part.substr(0, bracket);
+    if (step.key.empty()) refuse("'" + part + "' has no key before its index");
+    if (step.key.find(']') != std::string::npos) refuse("'" + part + "' closes an index it did not open");
+    for (size_t at = bracket; at != std::string::npos;) {
+      const auto close = part.find(']', at);
+      if (close == std::string::npos) refuse("'" + part + "' opens an index without closing it");
+      const std::string digits = part.substr(at + 1, close - at - 1);
+      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) {
+        refuse("index '" + digits + "' in '" + part + "' is not a list position (0, 1, 2, ...)");
+      }
+      step.indices.push_back(std::stoul(digits));
+      at = close + 1;
+      if (at == part.size()) break;
+      if (part[at] != '[') refuse("'" + part + "' has text after its index");
+    }
+    steps.push_back(std::move(step));
+  }
+  if (path.empty() || path.back() == '.') refuse("empty key in path");
+  return steps;
+}
+
+// `base` with `value` merged in at the path steps[from..] (maps along the path are created; a list entry
+// named by an index must exist, so that an override cannot create holes in a list).
+YAML::Node setAtPath(const YAML::Node& base, const std::vector<OverrideStep>& steps, size_t from,
+                     const YAML::Node& value, const std::string& done, const std::string& assignment) {
+  if (from == steps.size()) return deepMerge(base, value);
+  const OverrideStep& step = steps[from];
+  YAML::Node result = base.IsMap() ? YAML::Clone(base) : YAML::Node(YAML::NodeType::Map);
+  const std::string key_path = joinPath(done, step.key);
+  // (a missing key of a const map is an invalid node, which no type query may see)
+  const YAML::Node child = base.IsMap() && base[step.key] ? base[step.key] : YAML::Node(YAML::NodeType::Undefined);
+  if (step.indices.empty()) {
+    result[step.key] = setAtPath(child, steps, from + 1, value, key_path, assignment);
+    return result;
+  }
+  // Each index goes one list deeper; the innermost entry takes the rest of the path.
+  std::function<YAML::Node(const YAML::Node&, size_t, const std::string&)> entry =
+      [&](const YAML::Node& list, size_t level, const std::string& list_path) -> YAML::Node {
+    const size_t index = step.indices[level];
+    if (!list.IsDefined() || !list.IsSequence()) {
+      throw ConfigError("config error: override '" + assignment + "': " + list_path + " is " +
+                        (list.IsDefined() ? "not a list" : "not set") + ", so it has no entry [" +
+                        std::to_string(index) + "]");
+    }
+    if (index >= list.size()) {
+      throw ConfigError("config error: override '" + assignment + "': " + list_path + " has " +
+                        std::to_string(list.size()) + " entries (indices 0 to " + std::to_string(list.size() - 1) +
+                        "), no [" + std::to_string(index) + "]; to change the list, set " + list_path + "=[...]");
+    }
+    YAML::Node copy = YAML::Clone(list);
+    const std::string entry_path = list_path + "[" + std::to_string(index) + "]";
+    copy[index] = level + 1 < step.indices.size()
+                      ? entry(list[index], level + 1, entry_path)
+                      : setAtPath(list[index], steps, from + 1, value, entry_path, assignment);
+    return copy;
+  };
+  result[step.key] = entry(child, 0, key_path);
+  return result;
+}
+
 void applyOverride(detail::ConfigData& data, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
@@ -365,17 +443,15 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
   } catch (const ConfigError& e) {
     throw ConfigError(std::string(e.what()) + " (the value of an override is parsed as YAML)");
   }
-  // Walk and create maps along the path. yaml-cpp node assignment rebinds
-  // references, so rebuild the chain from the leaf upwards.
-  std::vector<std::string> keys;
-  std::stringstream ss(path);
-  for (std::string k; std::getline(ss, k, '.');) {
-    if (k.empty()) throw ConfigError("config error: override '" + assignment + "': empty key in path");
-    keys.push_back(k);
-  }
+  const std::vector<OverrideStep> steps = parseOverridePath(path, assignment);
   // A list replaced by a shorter one drops entries the files had: say which (by name when they have one).
   YAML::Node existing = YAML::Clone(data.root);
-  for (const auto& k : keys) existing = existing.IsMap() ? existing[k] : YAML::Node();
+  for (const auto& step : steps) {
+    existing = existing.IsMap() ? existing[step.key] : YAML::Node();
+    for (const size_t index : step.indices) {
+      existing = existing.IsSequence() && index < existing.size() ? existing[index] : YAML::Node();
+    }
+  }
   if (existing.IsDefined() && existing.IsSequence() && value.IsSequence() && value.size() < existing.size()) {
     std::set<std::string> kept;
     for (const auto& entry : value) {
@@ -393,14 +469,19 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
                          " entries by " + std::to_string(value.size()) +
                          (dropped.empty() ? "" : "; dropped: " + dropped));
   }
-  YAML::Node overlay = value;
-  for (auto it = keys.rbegin(); it != keys.rend(); ++it) {
-    YAML::Node parent(YAML::NodeType::Map);
-    parent[*it] = overlay;
-    overlay = parent;
+  data.root = setAtPath(data.root, steps, 0, value, "", assignment);
+  const std::string label = "command-line override '" + assignment + "'";
+  // The override is the source of its path and of every key on the way to it (as a file is of its keys).
+  std::string canonical;
+  for (const auto& step : steps) {
+    canonical = joinPath(canonical, step.key);
+    data.sources[canonical] = label;
+    for (const size_t index : step.indices) {
+      canonical += "[" + std::to_string(index) + "]";
+      data.sources[canonical] = label;
+    }
   }
-  data.root = deepMerge(data.root, overlay);
-  recordSources(overlay, "", "command-line override '" + assignment + "'", data.sources);
+  recordSources(value, canonical, label, data.sources);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ std::string defaultConfigPath() {
 
 void addConfigOptions(ArgParser& parser) {
   parser.option("config", "scenario YAML file", defaultConfigPath());
-  parser.option("set", "override a config value, key.path=value (repeatable)");
+  parser.option("set", "override a config value, key.path=value or key.list[INDEX].key=value (repeatable)");
 }
 
 bool parseWithCase(ArgParser& parser, const std::vector<std::string>& args, std::string& which) {

@@ -262,3 +262,53 @@ TEST(ConfigStrict, NumbersWrittenAsTextAreRefused) {
     EXPECT_EQ(c.section("a").number("x", Range::any()), 8.0e6) << text;
   }
 }
+
+// An override reaches one entry of a list by its index (soil.layers[1].thickness_m=20), as the error
+// messages name it; the other entries stay as the files have them. An index names an entry that exists.
+TEST(ConfigStrict, AnOverrideReachesOneListEntryByItsIndex) {
+  const fs::path dir = tempDir("index");
+  const fs::path f = writeFile(dir, "s.yaml",
+                               "layers:\n  - {name: top, thickness_m: 1}\n  - {name: deep, thickness_m: 2}\n"
+                               "grid: [[1, 2], [3, 4]]\nrail: {mass_kg: 54}\n");
+  const Config c = Config::load(f.string(), {"layers[1].thickness_m=5", "grid[1][0]=7"});
+  const auto layers = c.root().sectionList("layers");
+  ASSERT_EQ(layers.size(), 2u);
+  EXPECT_DOUBLE_EQ(layers[0].number("thickness_m", Range::positive()), 1.0);
+  EXPECT_DOUBLE_EQ(layers[1].number("thickness_m", Range::positive()), 5.0);
+  EXPECT_EQ(layers[1].text("name"), "deep");  // the entry's other keys stay
+  const YAML::Node grid = c.root().yaml()["grid"];
+  ASSERT_TRUE(grid.IsSequence());
+  EXPECT_EQ(grid[1][0].as<int>(), 7);  // one index per list level
+  EXPECT_EQ(grid[1][1].as<int>(), 4);
+  EXPECT_EQ(grid[0][0].as<int>(), 1);
+
+  // A map merges into the entry as into any section; the value is checked with the override named.
+  const Config merged = Config::load(f.string(), {"layers[0]={thickness_m: -3}"});
+  const auto top = merged.root().sectionList("layers")[0];
+  EXPECT_EQ(top.text("name"), "top");
+  expectContains(errorOf([&] { top.number("thickness_m", Range::positive()); }),
+                 {"layers[0].thickness_m", "-3", "command-line override 'layers[0]={thickness_m: -3}'"});
+  // A typo inside an entry is an unknown key of that entry.
+  const Config typo = Config::load(f.string(), {"layers[1].thicknes_m=3"});
+  for (const auto& l : typo.root().sectionList("layers")) {
+    l.text("name");
+    l.number("thickness_m", Range::positive());
+  }
+  typo.root().section("rail").number("mass_kg", Range::positive());
+  expectContains(errorOf([&] { typo.refuseUnknownKeys(); }),
+                 {"layers[1].thicknes_m", "did you mean layers[1].thickness_m?", "command-line override"});
+
+  // Entries that do not exist, keys that are no lists, indices that are no positions.
+  expectContains(errorOf([&] { Config::load(f.string(), {"layers[2].thickness_m=5"}); }),
+                 {"layers[2].thickness_m=5", "layers has 2 entries (indices 0 to 1), no [2]", "layers=[...]"});
+  expectContains(errorOf([&] { Config::load(f.string(), {"grid[0][2]=5"}); }), {"grid[0] has 2 entries", "no [2]"});
+  expectContains(errorOf([&] { Config::load(f.string(), {"rail[0].mass_kg=5"}); }), {"rail is not a list"});
+  expectContains(errorOf([&] { Config::load(f.string(), {"tracks[0].mass_kg=5"}); }), {"tracks is not set"});
+  for (const char* bad : {"layers[x].thickness_m=1", "layers[-1].thickness_m=1", "layers[].thickness_m=1",
+                          "layers[99999999].thickness_m=1", "layers[1.thickness_m=1", "layers]1[.thickness_m=1",
+                          "[1].thickness_m=1", "layers[1]x.thickness_m=1", "layers..thickness_m=1", "layers[1].=1"}) {
+    const std::string message = errorOf([&] { Config::load(f.string(), {bad}); });
+    expectContains(message, {std::string("override '") + bad + "'", "key.key[INDEX].key"});
+  }
+  fs::remove_all(dir);
+}
