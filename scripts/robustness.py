@@ -264,6 +264,12 @@ def config_cases():
         ("a map for a number", ci("simulation.speed_m_s={a: 1}"), "simulation.speed_m_s"),
         ("not a boolean", ci("virtual_sensors.include_gravity=maybe"), "virtual_sensors.include_gravity = maybe"),
         ("10 000-character value", ci("virtual_sensors.din4150_2_period=" + "x" * 10000), "din4150_2_period"),
+        ("a list entry that does not exist", ci("soil.layers[99].thickness_m=2"), "soil.layers has"),
+        ("a list index that is not a position", ci("soil.layers[-1].thickness_m=2"), "is not a list position"),
+        ("an index on a key that is no list", ci("simulation[0].speed_m_s=8"), "simulation is not a list"),
+        ("a bad value in one list entry", ci("soil.layers[1].thickness_m=abc"), "soil.layers[1].thickness_m = abc"),
+        ("an unknown snapshot component", ci("soil.output.snapshot_components=sideways"), "allowed: all, vertical"),
+        ("an unknown soil box mode", ci("soil.mesh.extent.mode=huge"), "allowed: fixed, auto"),
     ]
     return cases
 
