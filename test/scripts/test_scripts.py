@@ -30,6 +30,7 @@ import math
 import os
 import pathlib
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -869,7 +870,7 @@ if [ -n "$FAKE_FAIL" ]; then
   rm -f "$ws/building"
   exit 2
 fi
-sleep 1.5
+case "$ws" in *_san) sleep "${FAKE_SAN_BUILD_S:-1.5}" ;; *) sleep 1.5 ;; esac
 echo "end $(date +%s.%N)" >> "$ws/builds"
 rm -f "$ws/building"
 '''
@@ -987,6 +988,35 @@ class Workspace(unittest.TestCase):
         self.assertIn("nice 19", (self.root / ".ws_san" / "launcher").read_text())
         self.assertRegex(r.stderr, r"time: build .*, tests \(the sanitizer build beside them\) \d+ min \d\d s, "
                                    r"sanitizer build \(after the tests\) \d+ min \d\d s, sanitizer tests ")
+
+    def test_the_test_command_interrupted_or_terminated_ends_the_build_beside_it(self):
+        # The sanitizer build beside the tests is a background job (which ignores Ctrl-C): when the command
+        # ends early, the build and everything it started end with it.
+        bin_dir = self.root / "bin"
+        bin_dir.mkdir()
+        (bin_dir / "ctest").write_text(FAKE_CTEST)
+        (bin_dir / "ctest").chmod(0o755)
+        env = {**self.env, "RAILVIB_CTEST": str(bin_dir / "ctest"), "FAKE_CTEST_LOG": str(self.root / "ctest_log"),
+               "FAKE_SAN_BUILD_S": "120"}
+        for how, code in (("ctrl-c", 130), ("sigterm", 143)):
+            shutil.rmtree(self.root / ".ws_san", ignore_errors=True)
+            p = subprocess.Popen(["bash", str(self.root / "railvib"), "test"], env=env, stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.PIPE, text=True, start_new_session=True)
+            builds = self.root / ".ws_san" / "builds"
+            deadline = time.monotonic() + 60
+            while not builds.exists() and time.monotonic() < deadline:
+                time.sleep(0.1)
+            self.assertTrue(builds.exists(), how)
+            if how == "ctrl-c":
+                os.killpg(p.pid, signal.SIGINT)  # the terminal's Ctrl-C reaches the whole foreground group
+            else:
+                p.send_signal(signal.SIGTERM)
+            _, err = p.communicate(timeout=60)
+            self.assertEqual(p.returncode, code, f"{how}: {err}")
+            time.sleep(0.5)
+            left = subprocess.run(["pgrep", "-f", str(self.root)], capture_output=True, text=True).stdout.split()
+            self.assertEqual(left, [], f"{how}: processes left running")
+            self.assertNotIn("end", builds.read_text(), how)
 
     def test_a_failed_build_shows_the_compilers_error_lines(self):
         p = self.setup_command(FAKE_FAIL="1")
