@@ -9,7 +9,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <set>
 #include <sstream>
 
@@ -354,11 +353,17 @@ YAML::Node loadFileRecursive(const fs::path& file, const fs::path& includer,
   return merged;
 }
 
-// One step of an override's key path: a key, then the list indices after it ("layers[2]": layers, {2}).
+// One step of an override's key path: a key, or an index into the list before it
+// ("layers[2].thickness_m": layers, [2], thickness_m).
 struct OverrideStep {
-  std::string key;
-  std::vector<size_t> indices;
+  std::string key;  // empty for an index
+  size_t index = 0;
 };
+
+// The key path up to and including `step`, written as the error messages write it.
+std::string stepPath(const std::string& done, const OverrideStep& step) {
+  return step.key.empty() ? done + "[" + std::to_string(step.index) + "]" : joinPath(done, step.key);
+}
 
 std::vector<OverrideStep> parseOverridePath(const std::string& path, const std::string& assignment) {
   const auto refuse = [&](const std::string& why) {
@@ -369,11 +374,11 @@ std::vector<OverrideStep> parseOverridePath(const std::string& path, const std::
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');) {
     if (part.empty()) refuse("empty key in path");
-    OverrideStep step;
     const auto bracket = part.find('[');
-    step.key = part.substr(0, bracket);
-    if (step.key.empty()) refuse("'" + part + "' has no key before its index");
-    if (step.key.find(']') != std::string::npos) refuse("'" + part + "' closes an index it did not open");
+    const std::string key = part.substr(0, bracket);
+    if (key.empty()) refuse("'" + part + "' has no key before its index");
+    if (key.find(']') != std::string::npos) refuse("'" + part + "' closes an index it did not open");
+    steps.push_back({key, 0});
     for (size_t at = bracket; at != std::string::npos;) {
       const auto close = part.find(']', at);
       if (close == std::string::npos) refuse("'" + part + "' opens an index without closing it");
@@ -381,54 +386,48 @@ std::vector<OverrideStep> parseOverridePath(const std::string& path, const std::
       if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) {
         refuse("index '" + digits + "' in '" + part + "' is not a list position (0, 1, 2, ...)");
       }
-      step.indices.push_back(std::stoul(digits));
+      steps.push_back({"", std::stoul(digits)});
       at = close + 1;
       if (at == part.size()) break;
       if (part[at] != '[') refuse("'" + part + "' has text after its index");
     }
-    steps.push_back(std::move(step));
   }
   if (path.empty() || path.back() == '.') refuse("empty key in path");
   return steps;
 }
 
 // `base` with `value` merged in at the path steps[from..] (maps along the path are created; a list entry
-// named by an index must exist, so that an override cannot create holes in a list).
+// named by an index must exist, so that an override cannot create holes in a list). `replaced` is set to
+// what the path held before.
 YAML::Node setAtPath(const YAML::Node& base, const std::vector<OverrideStep>& steps, size_t from,
-                     const YAML::Node& value, const std::string& done, const std::string& assignment) {
-  if (from == steps.size()) return deepMerge(base, value);
+                     const YAML::Node& value, const std::string& done, const std::string& assignment,
+                     YAML::Node& replaced) {
+  if (from == steps.size()) {
+    replaced = base;
+    return deepMerge(base, value);
+  }
   const OverrideStep& step = steps[from];
-  YAML::Node result = base.IsMap() ? YAML::Clone(base) : YAML::Node(YAML::NodeType::Map);
-  const std::string key_path = joinPath(done, step.key);
-  // (a missing key of a const map is an invalid node, which no type query may see)
-  const YAML::Node child = base.IsMap() && base[step.key] ? base[step.key] : YAML::Node(YAML::NodeType::Undefined);
-  if (step.indices.empty()) {
-    result[step.key] = setAtPath(child, steps, from + 1, value, key_path, assignment);
+  const std::string path = stepPath(done, step);
+  if (!step.key.empty()) {
+    YAML::Node result = base.IsMap() ? YAML::Clone(base) : YAML::Node(YAML::NodeType::Map);
+    // (a missing key of a const map is an invalid node, which no type query may see)
+    const YAML::Node child = base.IsMap() && base[step.key] ? base[step.key] : YAML::Node(YAML::NodeType::Undefined);
+    result[step.key] = setAtPath(child, steps, from + 1, value, path, assignment, replaced);
     return result;
   }
-  // Each index goes one list deeper; the innermost entry takes the rest of the path.
-  std::function<YAML::Node(const YAML::Node&, size_t, const std::string&)> entry =
-      [&](const YAML::Node& list, size_t level, const std::string& list_path) -> YAML::Node {
-    const size_t index = step.indices[level];
-    if (!list.IsDefined() || !list.IsSequence()) {
-      throw ConfigError("config error: override '" + assignment + "': " + list_path + " is " +
-                        (list.IsDefined() ? "not a list" : "not set") + ", so it has no entry [" +
-                        std::to_string(index) + "]");
-    }
-    if (index >= list.size()) {
-      throw ConfigError("config error: override '" + assignment + "': " + list_path + " has " +
-                        std::to_string(list.size()) + " entries (indices 0 to " + std::to_string(list.size() - 1) +
-                        "), no [" + std::to_string(index) + "]; to change the list, set " + list_path + "=[...]");
-    }
-    YAML::Node copy = YAML::Clone(list);
-    const std::string entry_path = list_path + "[" + std::to_string(index) + "]";
-    copy[index] = level + 1 < step.indices.size()
-                      ? entry(list[index], level + 1, entry_path)
-                      : setAtPath(list[index], steps, from + 1, value, entry_path, assignment);
-    return copy;
-  };
-  result[step.key] = entry(child, 0, key_path);
-  return result;
+  if (!base.IsDefined() || !base.IsSequence()) {
+    throw ConfigError("config error: override '" + assignment + "': " + done + " is " +
+                      (base.IsDefined() ? "not a list" : "not set") + ", so it has no entry [" +
+                      std::to_string(step.index) + "]");
+  }
+  if (step.index >= base.size()) {
+    throw ConfigError("config error: override '" + assignment + "': " + done + " has " + std::to_string(base.size()) +
+                      " entries (indices 0 to " + std::to_string(base.size() - 1) + "), no [" +
+                      std::to_string(step.index) + "]; to change the list, set " + done + "=[...]");
+  }
+  YAML::Node copy = YAML::Clone(base);
+  copy[step.index] = setAtPath(base[step.index], steps, from + 1, value, path, assignment, replaced);
+  return copy;
 }
 
 void applyOverride(detail::ConfigData& data, const std::string& assignment) {
@@ -444,14 +443,9 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
     throw ConfigError(std::string(e.what()) + " (the value of an override is parsed as YAML)");
   }
   const std::vector<OverrideStep> steps = parseOverridePath(path, assignment);
+  YAML::Node existing;
+  data.root = setAtPath(data.root, steps, 0, value, "", assignment, existing);
   // A list replaced by a shorter one drops entries the files had: say which (by name when they have one).
-  YAML::Node existing = YAML::Clone(data.root);
-  for (const auto& step : steps) {
-    existing = existing.IsMap() ? existing[step.key] : YAML::Node();
-    for (const size_t index : step.indices) {
-      existing = existing.IsSequence() && index < existing.size() ? existing[index] : YAML::Node();
-    }
-  }
   if (existing.IsDefined() && existing.IsSequence() && value.IsSequence() && value.size() < existing.size()) {
     std::set<std::string> kept;
     for (const auto& entry : value) {
@@ -469,19 +463,14 @@ void applyOverride(detail::ConfigData& data, const std::string& assignment) {
                          " entries by " + std::to_string(value.size()) +
                          (dropped.empty() ? "" : "; dropped: " + dropped));
   }
-  data.root = setAtPath(data.root, steps, 0, value, "", assignment);
   const std::string label = "command-line override '" + assignment + "'";
   // The override is the source of its path and of every key on the way to it (as a file is of its keys).
-  std::string canonical;
+  std::string step_path;
   for (const auto& step : steps) {
-    canonical = joinPath(canonical, step.key);
-    data.sources[canonical] = label;
-    for (const size_t index : step.indices) {
-      canonical += "[" + std::to_string(index) + "]";
-      data.sources[canonical] = label;
-    }
+    step_path = stepPath(step_path, step);
+    data.sources[step_path] = label;
   }
-  recordSources(value, canonical, label, data.sources);
+  recordSources(value, step_path, label, data.sources);
 }
 
 }  // namespace
