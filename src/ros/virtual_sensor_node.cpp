@@ -211,7 +211,8 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
       if (block.end_of_stream) s.sensor->flush(s.fresh);
       if (!s.fresh.empty()) s.latest_time_s = s.fresh.back().time_s;
     }
-    // The clock first, so that a tool receiving these samples finds now >= their stamps.
+    // The clock first, so that when these samples go out, now >= their stamps (a subscriber to both
+    // topics may still handle them in either order: ROS orders messages within a topic only).
     publishClock();
     for (auto& s : sensors_) {
       if (s.setup.source != source.name) continue;
@@ -237,8 +238,9 @@ void VirtualSensorNode::onBlock(Source& source, const InputBlock& block) {
 
 void VirtualSensorNode::publishClock() {
   if (!clock_publisher_) return;
-  // The newest sample of any sensor: every sample published so far has a stamp <= now, so a tool's
-  // delay (now - stamp) is never negative; a sensor fed later in the chain (the house) shows its lag.
+  // The newest sample of any sensor: every sample published so far has a stamp <= now (a tool's delay,
+  // now - stamp, is not negative when the sample goes out); a sensor fed later in the chain (the house)
+  // shows its lag.
   double t_s = -1.0;
   for (const auto& s : sensors_) t_s = std::max(t_s, s.latest_time_s);
   if (!(t_s > clock_s_)) return;  // no sample yet, or no progress

@@ -148,13 +148,15 @@ class StreamBagTest(unittest.TestCase):
         self.assertAlmostEqual(self.clock_s[-1], (samples - 1) * period, delta=1e-9,
                                msg="the last /clock is not the last sensor sample's time")
         self.assertGreater(len(self.delays_s), samples // 2, "too few live velocity messages seen")
-        # No bound on the smallest delay: this test's /clock and velocity callbacks run on separate
-        # threads, so a sample can be handled before the /clock that preceded it (seen: one block).
+        # The node publishes a block's /clock before its samples, but /clock and the velocity come on two
+        # connections, each handled on its own thread here: ROS orders messages within a topic only, so a
+        # block's samples can be handled before or after its /clock (CI saw the median at -2 ms, most of a
+        # block handled first). What holds either way: the clock runs with the samples, within one block.
         median = sorted(self.delays_s)[len(self.delays_s) // 2]
         print(f"live /clock: {len(self.clock_s)} messages to {self.clock_s[-1]:.4f} s; delay of "
               f"/sensors/{self.clock_sensor}/velocity min {min(self.delays_s):.4f} median {median:.4f} "
               f"max {max(self.delays_s):.4f} s over {len(self.delays_s)} messages (block {block_s} s)", flush=True)
-        self.assertTrue(0.0 <= median <= block_s + 1e-9, f"median delay {median} s, block {block_s} s")
+        self.assertLessEqual(abs(median), block_s + 1e-9, f"median delay {median} s, block {block_s} s")
 
     def check_scenario_record(self):
         tool = find_railvib_tool()

@@ -34,6 +34,8 @@ sys.path.insert(0, str(ROOT / "scripts"))
 import railvib_names as names  # noqa: E402
 from railvib_paths import find_railvib_tool  # noqa: E402
 import railvib_process  # noqa: E402
+sys.path.insert(0, str(HERE.parent))
+from junit_xml import xml_text  # noqa: E402
 
 CRASH_MARKERS = ("AddressSanitizer", "UndefinedBehaviorSanitizer", "runtime error:", "LeakSanitizer",
                  "Segmentation fault", "Aborted", "Traceback", "terminate called", "core dumped")
@@ -625,7 +627,8 @@ def write_junit(results, path):
         case = ET.SubElement(suite, "testcase", classname="NodeFuzz." + r["group"].replace(" ", "_"), name=r["case"],
                              time=str(r.get("seconds", 0.0)))
         if r["outcome"] not in ("refused", "finished"):
-            ET.SubElement(case, "failure", message=r["outcome"]).text = r.get("detail", "") + "\n" + r.get("log", "")
+            failure = ET.SubElement(case, "failure", message=r["outcome"])
+            failure.text = xml_text(r.get("detail", "") + "\n" + r.get("log", ""))
     pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
 

@@ -45,6 +45,7 @@ import bag_check  # noqa: E402
 sys.path.insert(0, str(ROOT / "test" / "ros"))
 from junit_xml import run_verbose, write_junit  # noqa: E402
 import launch_scenario  # noqa: E402
+import node_fuzz  # noqa: E402
 import railvib_names as names  # noqa: E402
 import railvib_process  # noqa: E402
 import test_summary  # noqa: E402
@@ -101,6 +102,28 @@ class TestSummary(unittest.TestCase):
     def test_unreadable_and_empty_result_files_fail(self):
         self.assertEqual(self.run_summary({"gtest-a.xml": "<testsuite><testcase"}, ["gtest-a"]), 1)
         self.assertEqual(self.run_summary({"gtest-a.xml": "<testsuite name='s'/>"}, ["gtest-a"]), 1)
+
+    def test_a_failure_log_with_control_characters_stays_a_readable_failure(self):
+        # A node's log, as ROS colours it, with a stray NUL: the result file must parse and count the failure
+        # (CI once read "not well-formed (invalid token)" and lost the failing case's log).
+        log = "\x1b[31m[ERROR] [1.0]: soil: bad block\x1b[0m\x00 end\x07"
+        d = WORK / "results_control_characters"
+        shutil.rmtree(d, ignore_errors=True)
+        node_fuzz.write_junit([{"group": "soil loads", "case": "nan", "outcome": "crash", "detail": "exit -6",
+                                "log": log, "seconds": 1.0}], d / "san-node-fuzz.xml")
+
+        class Failing(unittest.TestCase):
+            def test_it(self):
+                self.fail(log)
+        result = unittest.TextTestRunner(stream=open(os.devnull, "w")).run(
+            unittest.defaultTestLoader.loadTestsFromTestCase(Failing))
+        write_junit(result, "s", Failing, d / "script-tests.xml")
+        for name in ("san-node-fuzz", "script-tests"):
+            text = ET.parse(d / f"{name}.xml").getroot().find("testcase").find("failure").text
+            self.assertIn("[ERROR] [1.0]: soil: bad block\\x00 end\\x07", text)
+            self.assertNotIn("\x1b", text)
+        rows, passed, failed, _ = test_summary.summarize([d], [], ["san-node-fuzz", "script-tests"])
+        self.assertEqual((passed, failed), (0, 2), rows)
 
     def test_a_test_ctest_saw_fail_fails(self):
         self.assertEqual(self.run_summary({"gtest-a.xml": [("x", False)]}, ["gtest-a"], "3:unit_soil\n"), 1)
