@@ -2,12 +2,12 @@
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
+#include "railvib/track/dynamic_stiffness_lu.hpp"
 #include "railvib/track/track_newmark.hpp"
 
 namespace railvib::track {
@@ -116,19 +116,12 @@ std::vector<std::complex<double>> foundationForceTransmissibility(const TrackMod
   const double applied_n = both ? 2.0 : 1.0;
   std::vector<Rail> seats{Rail::Left};
   if (model.railCount() == 2) seats.push_back(Rail::Right);
-  Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
-  bool analysed = false;
+  DynamicStiffnessLu lu;
   std::vector<Cplx> out;
   out.reserve(frequencies_hz.size());
   std::vector<double> re, im;
   for (double f : frequencies_hz) {
-    const Eigen::SparseMatrix<Cplx> a = model.dynamicStiffness(f);
-    if (!analysed) {
-      lu.analyzePattern(a);
-      analysed = true;
-    }
-    lu.factorize(a);
-    if (lu.info() != Eigen::Success) throw std::runtime_error("track: transmissibility factorisation failed");
+    lu.factorize(model.dynamicStiffness(f), "track: transmissibility");
     const Eigen::VectorXcd u = lu.solve(load);
     const Eigen::VectorXcd v = Cplx(0.0, 2.0 * M_PI * f) * u;
     // the force is linear in (u, v): its real and imaginary parts from those of the state
@@ -190,8 +183,7 @@ std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, do
   const RailPoint at = model.railPoint(x_m);
   Eigen::VectorXcd load = Eigen::VectorXcd::Zero(model.dofCount());
   for (int k = 0; k < 4; ++k) load[at.dofs[k]] += at.weights[k];
-  Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
-  bool analysed = false;
+  DynamicStiffnessLu lu;
   std::vector<Cplx> out;
   out.reserve(frequencies_hz.size());
   std::vector<Eigen::Triplet<Cplx>> t;
@@ -228,12 +220,7 @@ std::vector<std::complex<double>> receptanceOnGround(const TrackModel& model, do
     block.setFromTriplets(t.begin(), t.end());
     Eigen::SparseMatrix<Cplx> a = model.dynamicStiffness(f) + block;
     a.makeCompressed();
-    if (!analysed) {
-      lu.analyzePattern(a);
-      analysed = true;
-    }
-    lu.factorize(a);
-    if (lu.info() != Eigen::Success) throw std::runtime_error("track: receptance on the ground: factorisation failed");
+    lu.factorize(a, "track: receptance on the ground");
     const Eigen::VectorXcd u = lu.solve(load);
     Cplx r = 0.0;
     for (int k = 0; k < 4; ++k) r += at.weights[k] * u[at.dofs[k]];

@@ -1,11 +1,12 @@
 #include "railvib/track/track_model.hpp"
 
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+
+#include "railvib/track/dynamic_stiffness_lu.hpp"
 
 namespace railvib::track {
 
@@ -333,18 +334,11 @@ std::vector<std::complex<double>> TrackModel::receptance(double x_m, const std::
   const RailPoint observed = railPoint(x_m, loading == RailLoading::Right ? Rail::Right : Rail::Left);
   Eigen::VectorXcd r = Eigen::VectorXcd::Zero(n_dof_);
   for (int k = 0; k < 4; ++k) r[observed.dofs[k]] += observed.weights[k];
-  Eigen::SparseLU<Eigen::SparseMatrix<Cplx>> lu;
+  DynamicStiffnessLu lu;
   std::vector<Cplx> out;
   out.reserve(frequencies_hz.size());
-  bool analysed = false;
   for (double f : frequencies_hz) {
-    const Eigen::SparseMatrix<Cplx> A = dynamicStiffness(f);
-    if (!analysed) {
-      lu.analyzePattern(A);
-      analysed = true;
-    }
-    lu.factorize(A);
-    if (lu.info() != Eigen::Success) throw std::runtime_error("track: receptance factorisation failed");
+    lu.factorize(dynamicStiffness(f), "track: receptance");
     const Eigen::VectorXcd x = lu.solve(load);
     out.push_back(r.transpose() * x);
   }

@@ -2,13 +2,13 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 
+#include "railvib/track/dynamic_stiffness_lu.hpp"
 #include "railvib/track/track_model.hpp"
 #include "railvib/vehicle/passage.hpp"
 
@@ -418,9 +418,8 @@ std::vector<std::complex<double>> wheelImpedanceFlexible(const VehicleModel& mod
   const int nw = model.wheelCount();
   const std::vector<track::RailPoint> pts = contactPoints(model, tm, x);
   const Eigen::SparseMatrix<cd> Mt = tm.mass().cast<cd>(), Ct = tm.damping().cast<cd>(), Kt = tm.stiffness().cast<cd>();
-  Eigen::SparseLU<Eigen::SparseMatrix<cd>> lu;
-  Eigen::SparseMatrix<cd> D = Kt + Mt + Ct;
-  lu.analyzePattern(D);
+  track::DynamicStiffnessLu lu;
+  Eigen::SparseMatrix<cd> D;
   const Eigen::MatrixXd& B = model.contactSelection();
   const Eigen::Index c = model.wheels()[wheel].contact_dof;
   Eigen::MatrixXcd rhs = Eigen::MatrixXcd::Zero(tm.dofCount(), nw);
@@ -431,8 +430,7 @@ std::vector<std::complex<double>> wheelImpedanceFlexible(const VehicleModel& mod
     const double w = 2.0 * M_PI * f;
     const cd iw(0.0, w);
     D = Kt - cd(w * w) * Mt + iw * Ct;
-    lu.factorize(D);
-    if (lu.info() != Eigen::Success) throw std::runtime_error("wheel impedance: track factorisation failed");
+    lu.factorize(D, "wheel impedance: the track");
     const Eigen::MatrixXcd X = lu.solve(rhs);
     const Eigen::MatrixXcd Rt = rhs.transpose() * X;  // nw x nw rail receptance (m/N)
     // contact springs in series with the rail: F = (I + kH Rt)^{-1} kH w_wheel

@@ -1,8 +1,14 @@
 // Frequency-domain acceptance: discrete track vs the continuous beam, statics, k_b sweep.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
+#include <complex>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
+#include "railvib/track/dynamic_stiffness_lu.hpp"
 #include "railvib/track/track_analysis.hpp"
 #include "track_test_util.hpp"
 
@@ -132,6 +138,69 @@ TEST(TrackReceptance, BallastStiffnessShiftsResonances) {
   const double rwf = wf.peaks[0].frequency_hz / w1.peaks[0].frequency_hz;
   EXPECT_GT(rwf, 1.0);
   EXPECT_LT(rwf - 1.0, 0.5 * (rw - 1.0));  // k_f matters less than k_b
+}
+
+// The sweep's factorisation on a chain of n masses m, each tied to the next and to ground by a spring k
+// with a dashpot c: at each frequency the solve matches the dense LU of the same D(w) to round-off, and
+// for n = 1 the analytic receptance 1 / (k - w^2 m + i w c). A singular D and a changed pattern are refused.
+TEST(TrackReceptance, DynamicStiffnessLuSolvesADampedChain) {
+  using Cplx = std::complex<double>;
+  const double m = 50.0, k = 2.0e7, c = 4.0e3;  // kg, N/m, N s/m
+  const auto chain = [&](int n, double w) {
+    std::vector<Eigen::Triplet<Cplx>> t;
+    const Cplx spring(k, w * c);
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, spring - w * w * m);  // to ground, and the mass
+      if (i + 1 < n) {
+        t.emplace_back(i, i, spring);
+        t.emplace_back(i + 1, i + 1, spring);
+        t.emplace_back(i, i + 1, -spring);
+        t.emplace_back(i + 1, i, -spring);
+      }
+    }
+    DynamicStiffnessLu::Matrix d(n, n);
+    d.setFromTriplets(t.begin(), t.end());
+    return d;
+  };
+  DynamicStiffnessLu one;
+  for (double f : {1.0, 100.0, 1000.0}) {
+    const double w = 2.0 * M_PI * f;
+    one.factorize(chain(1, w), "test");
+    const Cplx x = one.solve(Eigen::VectorXcd(Eigen::VectorXcd::Ones(1)))[0];
+    EXPECT_LT(std::abs(x * Cplx(k - w * w * m, w * c) - 1.0), 1e-12) << f << " Hz";
+  }
+  const int n = 40;
+  DynamicStiffnessLu lu;
+  Eigen::MatrixXcd b = Eigen::MatrixXcd::Zero(n, 2);
+  b(0, 0) = 1.0;
+  b(n / 2, 1) = Cplx(0.0, 1.0);
+  for (double f : {5.0, 120.0, 700.0, 2500.0}) {
+    const DynamicStiffnessLu::Matrix d = chain(n, 2.0 * M_PI * f);
+    lu.factorize(d, "test");
+    const Eigen::MatrixXcd x = lu.solve(b);
+    const Eigen::MatrixXcd dense = Eigen::MatrixXcd(d).partialPivLu().solve(b);
+    EXPECT_LT((x - dense).norm() / dense.norm(), 1e-12) << f << " Hz";
+    EXPECT_LT((lu.solve(Eigen::VectorXcd(b.col(1))) - dense.col(1)).norm() / dense.col(1).norm(), 1e-12);
+  }
+  try {
+    lu.factorize(chain(n - 1, 10.0), "test sweep");
+    ADD_FAILURE() << "a changed pattern was factorised";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("test sweep: the dynamic stiffness changed its sparsity pattern"),
+              std::string::npos)
+        << e.what();
+  }
+  DynamicStiffnessLu singular;
+  DynamicStiffnessLu::Matrix rank_one(2, 2);
+  std::vector<Eigen::Triplet<Cplx>> ones{{0, 0, 1.0}, {0, 1, 1.0}, {1, 0, 1.0}, {1, 1, 1.0}};
+  rank_one.setFromTriplets(ones.begin(), ones.end());
+  try {
+    singular.factorize(rank_one, "rank one");
+    ADD_FAILURE() << "a singular matrix was factorised";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("rank one: factorisation failed"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(singular.solve(Eigen::VectorXcd(Eigen::VectorXcd::Ones(2))), std::logic_error);
 }
 
 }  // namespace
