@@ -10,6 +10,7 @@
 
 #include "config_test_util.hpp"
 #include "railvib/common/config.hpp"
+#include "test_scratch.hpp"
 
 using railvib::Config;
 using railvib::ConfigError;
@@ -33,8 +34,10 @@ void expectContains(const std::string& message, const std::vector<std::string>& 
   for (const auto& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
 }
 
+// A folder of its own for each test's files (created), in this process's scratch folder.
 fs::path tempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("railvib_strict_" + name + "_" + std::to_string(::getpid()));
+  static const railvib::test::ScratchDir scratch("strict");
+  const fs::path dir = scratch.file(name);
   fs::create_directories(dir);
   return dir;
 }

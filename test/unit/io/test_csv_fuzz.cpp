@@ -13,6 +13,7 @@
 #include <string>
 
 #include "railvib/io/csv.hpp"
+#include "test_scratch.hpp"
 
 namespace fs = std::filesystem;
 using railvib::io::CsvTable;
@@ -22,7 +23,8 @@ using railvib::io::uniformStep;
 namespace {
 
 fs::path tempFile(const std::string& name) {
-  return fs::temp_directory_path() / ("railvib_csvfuzz_" + std::to_string(::getpid()) + "_" + name);
+  static const railvib::test::ScratchDir scratch("csvfuzz");
+  return scratch.file(name);
 }
 
 void writeText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }

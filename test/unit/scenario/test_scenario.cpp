@@ -3,7 +3,6 @@
 // list, each key misspelt or repeated, is refused with a ConfigError naming the key; no other
 // exception escapes. Run under AddressSanitizer and UndefinedBehaviorSanitizer too.
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -21,6 +20,7 @@
 #include "railvib/common/plausibility.hpp"
 #include "railvib/scenario/scenario.hpp"
 #include "test_sampling.hpp"
+#include "test_scratch.hpp"
 
 namespace fs = std::filesystem;
 using railvib::Config;
@@ -32,9 +32,8 @@ namespace {
 std::string configPath(const std::string& name) { return std::string(RAILVIB_SOURCE_DIR) + "/config/" + name; }
 
 fs::path tempDir() {
-  const fs::path dir = fs::temp_directory_path() / ("railvib_scenario_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+  static const railvib::test::ScratchDir scratch("scenario");
+  return scratch.path();
 }
 
 // "" when the scenario is valid, else the ConfigError's message; any other exception fails the test.
@@ -336,7 +335,6 @@ TEST(Scenario, AMeasuredProfileIsReadAndCheckedAtConfigTime) {
   const std::string beside = with_profile("x_m,z_m\n5000,0\n5010,1e-4\n");
   EXPECT_NE(beside.find("outside the track's"), std::string::npos) << beside;
   EXPECT_NE(beside.find("unevenness.measured_profile.file"), std::string::npos) << beside;
-  fs::remove_all(dir);
 }
 
 // Unit slips, generated over every key of the CI scenario that holds a physical quantity with a

@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -12,6 +11,7 @@
 #include "railvib/soil/snapshot_io.hpp"
 #include "railvib/soil/soil_model.hpp"
 #include "soil_test_util.hpp"
+#include "test_scratch.hpp"
 
 using namespace railvib::soil;
 using railvib::Config;
@@ -108,14 +108,13 @@ TEST(SoilModel, StreamingInBlocksEqualsOneBlockAndChecksContinuity) {
   EXPECT_GT(peak, 0.0);
   // About 10 snapshots for 0.1 s at 100 Hz, on the surface grid; roundtrip through the binary file.
   ASSERT_GE(a.second.size(), 9u);
-  // per process: a sanitizer run and a regular one may run this test at once
-  const std::string path = ::testing::TempDir() + "/soil_snap_test_" + std::to_string(::getpid()) + ".snap";
+  const railvib::test::ScratchDir scratch("soil_snapshots");
+  const std::string path = scratch.file("surface.snap").string();
   writeSnapshots(path, a.second);
   const auto back = readSnapshots(path);
   ASSERT_EQ(back.size(), a.second.size());
   EXPECT_EQ(back[3].vz_up_m_s, a.second[3].vz_up_m_s);
   EXPECT_DOUBLE_EQ(back[3].time_s, 0.03);
-  std::remove(path.c_str());
 }
 
 TEST(SoilModel, DownwardLoadMovesTheSurfaceDown) {

@@ -2,7 +2,6 @@
 // message naming the key path, the value, the allowed range and the file.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +12,7 @@
 #include "railvib/io/csv.hpp"
 #include "railvib/track/track_analysis.hpp"
 #include "railvib/track/track_stepper.hpp"
+#include "test_scratch.hpp"
 #include "track_test_util.hpp"
 
 namespace fs = std::filesystem;
@@ -28,9 +28,8 @@ std::string readText(const std::string& path) {
 }
 
 std::string tempDir() {
-  const fs::path dir = fs::temp_directory_path() / ("railvib_track_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir.string();
+  static const railvib::test::ScratchDir scratch("track_test");
+  return scratch.path().string();
 }
 
 TEST(TrackConfig, HarenLoads) {

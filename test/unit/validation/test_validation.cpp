@@ -2,7 +2,6 @@
 // their recorded verdicts, and the chain claims judge synthetic records the way they say.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include "railvib/common/config.hpp"
 #include "railvib/validation/validation.hpp"
 #include "railvib/vehicle/vehicle_params.hpp"
+#include "test_scratch.hpp"
 
 using namespace railvib;
 using namespace railvib::validation;
@@ -23,21 +23,10 @@ Config haren(const std::vector<std::string>& overrides = {}) {
   return Config::load(std::string(RAILVIB_SOURCE_DIR) + "/config/haren.yaml", overrides);
 }
 
-// This run's own folder for the records it writes (two runs at once, e.g. a workspace's and a clone's,
-// must not overwrite each other's), removed when the tests end.
-struct ScratchDir {
-  std::filesystem::path path = std::filesystem::path(::testing::TempDir()) /
-                               ("railvib_validation_" + std::to_string(::getpid()));
-  ScratchDir() { std::filesystem::create_directories(path); }
-  ~ScratchDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path, ignored);
-  }
-};
-
+// The records this run writes, in its own folder (removed when the tests end).
 std::string scratchFile(const std::string& name) {
-  static const ScratchDir dir;
-  return (dir.path / name).string();
+  static const railvib::test::ScratchDir scratch("validation");
+  return scratch.file(name).string();
 }
 }  // namespace
 
