@@ -44,6 +44,7 @@ CONFIG = str(ROOT / "config" / "haren_ci.yaml")
 WRONG_TYPE = "section_snapshot as a SurfaceSnapshot"
 STARTUP_S = float(os.environ.get("RAILVIB_FUZZ_STARTUP_S", "120"))
 OUTCOME_S = float(os.environ.get("RAILVIB_FUZZ_OUTCOME_S", "90"))
+DIAGNOSTICS_S = 15.0  # the longest wait for a refusing node's ERROR on /diagnostics after it exited
 
 
 def node_binary(name):
@@ -532,6 +533,13 @@ def run_case(h, sc, index, case):
             time.sleep(0.1)
         railvib_process.stop(proc)
         time.sleep(0.3)  # the last /diagnostics in flight
+        # A refusal's ERROR is published before the node exits, but this process handles /diagnostics on
+        # a thread of its own, which a loaded machine can hold back past those 0.3 s: wait for it (a
+        # condition, bounded; only a node that did not refuse as expected waits the whole bound).
+        deadline = time.time() + DIAGNOSTICS_S
+        while (expected != "finished" and proc.returncode == 1 and time.time() < deadline
+               and not any(d[0] == status_name and d[1] == 2 and fragment in d[2] for d in h.diagnostics)):
+            time.sleep(0.05)
     finally:
         log.seek(0)
         output = log.read()
