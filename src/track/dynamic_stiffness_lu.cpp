@@ -7,8 +7,9 @@
 namespace railvib::track {
 
 struct DynamicStiffnessLu::Impl {
-  // UMFPACK's solve reads the factorised matrix again (iterative refinement), and Eigen's wrapper keeps
-  // a reference to it: the matrix is held here, not left to the caller's temporary.
+  // Eigen's wrapper keeps a reference to the factorised matrix and hands it to every UMFPACK solve
+  // (which reads it for iterative refinement): the matrix is held here, not left to the caller's
+  // temporary.
   Matrix matrix;
   Eigen::UmfPackLU<Matrix> lu;
   Eigen::Index rows = -1;
@@ -18,7 +19,8 @@ struct DynamicStiffnessLu::Impl {
 
 DynamicStiffnessLu::DynamicStiffnessLu() : impl_(std::make_unique<Impl>()) {
   // No iterative refinement: a dynamic stiffness away from its singular frequencies is well conditioned,
-  // and the direct solve agrees with a dense LU to round-off (test TrackReceptance.DynamicStiffnessLu...).
+  // and the direct solve agrees with a dense LU to round-off (test
+  // TrackReceptance.DynamicStiffnessLuSolvesADampedChain).
   impl_->lu.umfpackControl()(UMFPACK_IRSTEP) = 0;
 }
 DynamicStiffnessLu::~DynamicStiffnessLu() = default;
@@ -40,7 +42,8 @@ void DynamicStiffnessLu::factorize(const Matrix& d, const char* what) {
   }
   if (impl_->lu.info() == Eigen::Success) impl_->lu.factorize(impl_->matrix);
   if (impl_->lu.info() != Eigen::Success) {
-    throw std::runtime_error(std::string(what) + ": factorisation failed (singular dynamic stiffness)");
+    throw std::runtime_error(std::string(what) +
+                             ": factorisation failed (UMFPACK: a singular dynamic stiffness, or out of memory)");
   }
   impl_->factorised = true;
 }

@@ -25,9 +25,9 @@ class DynamicStiffnessLu {
   DynamicStiffnessLu(const DynamicStiffnessLu&) = delete;
   DynamicStiffnessLu& operator=(const DynamicStiffnessLu&) = delete;
 
-  /// Factorises d (square, compressed). The first call analyses the pattern, which later calls must
-  /// share (same nonzero structure). Throws std::runtime_error naming `what` if d is singular or
-  /// not square, or the pattern changed.
+  /// Factorises d (square; a copy is kept, compressed, for the solves). The first call analyses the
+  /// pattern, which later calls must share (same nonzero structure; checked by size and nonzero count).
+  /// Throws std::runtime_error naming `what` if d is singular or not square, or the pattern changed.
   void factorize(const Matrix& d, const char* what);
 
   /// x = D^{-1} b for the last factorised D (one column or several).
