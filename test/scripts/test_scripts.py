@@ -115,8 +115,9 @@ class TestSummary(unittest.TestCase):
         class Failing(unittest.TestCase):
             def test_it(self):
                 self.fail(log)
-        result = unittest.TextTestRunner(stream=open(os.devnull, "w")).run(
-            unittest.defaultTestLoader.loadTestsFromTestCase(Failing))
+        with open(os.devnull, "w") as quiet:
+            result = unittest.TextTestRunner(stream=quiet).run(
+                unittest.defaultTestLoader.loadTestsFromTestCase(Failing))
         write_junit(result, "s", Failing, d / "script-tests.xml")
         for name in ("san-node-fuzz", "script-tests"):
             text = ET.parse(d / f"{name}.xml").getroot().find("testcase").find("failure").text

@@ -7,6 +7,7 @@
 
 #include "config_test_util.hpp"
 #include "railvib/common/config.hpp"
+#include "test_scratch.hpp"
 
 using railvib::Config;
 using railvib::ConfigError;
@@ -26,6 +27,11 @@ void expectConfigError(const std::function<void()>& fn, const std::vector<std::s
   }
 }
 
+// This process's own folder for the files these tests write (the sanitizer run may run them at once).
+std::filesystem::path configScratchDir(const std::string& name) {
+  static const railvib::test::ScratchDir scratch("config");
+  return scratch.file(name);
+}
 }  // namespace
 
 TEST(Range, ContainsAndDescribesBounds) {
@@ -68,7 +74,7 @@ TEST(Config, ErrorsNameKeyPathValueRangeAndFile) {
 }
 
 TEST(Config, IncludesMergeAndOverridesWinWithTheirSourceNamed) {
-  const auto dir = std::filesystem::temp_directory_path() / "railvib_config_test";
+  const auto dir = configScratchDir("includes");
   writeFile(dir, "base.yaml", "track:\n  a_m: 1.0\n  b_m: 2.0\n");
   const auto top = writeFile(dir, "top.yaml", "include: [base.yaml]\ntrack:\n  b_m: 3.0\n");
   const Config c = Config::load(top.string(), {"track.a_m=-7"});
@@ -83,7 +89,7 @@ TEST(Config, IncludesMergeAndOverridesWinWithTheirSourceNamed) {
 }
 
 TEST(Config, RejectsIncludeCyclesMissingFilesAndBadYaml) {
-  const auto dir = std::filesystem::temp_directory_path() / "railvib_config_cycle";
+  const auto dir = configScratchDir("cycle");
   writeFile(dir, "a.yaml", "include: [b.yaml]\n");
   writeFile(dir, "b.yaml", "include: [a.yaml]\n");
   writeFile(dir, "bad.yaml", "track: [unclosed\n");

@@ -4,13 +4,22 @@
 #include <fstream>
 
 #include "railvib/io/csv.hpp"
+#include "test_scratch.hpp"
 
 namespace fs = std::filesystem;
 using railvib::io::CsvWriter;
 using railvib::io::readCsv;
 
+namespace {
+// This process's own folder: the regular and the sanitizer run may write these files at once.
+fs::path csvScratchFile(const std::string& name) {
+  static const railvib::test::ScratchDir scratch("csv");
+  return scratch.file(name);
+}
+}  // namespace
+
 TEST(Csv, RoundTripsValuesIncludingSubnormals) {
-  const fs::path path = fs::temp_directory_path() / "railvib_csv_roundtrip.csv";
+  const fs::path path = csvScratchFile("roundtrip.csv");
   {
     CsvWriter w(path.string(), {"t_s", "v"});
     w.row({0.0, -8.6e-309});
@@ -26,20 +35,20 @@ TEST(Csv, RoundTripsValuesIncludingSubnormals) {
 }
 
 TEST(Csv, UncommittedFileLeavesNothingBehind) {
-  const fs::path path = fs::temp_directory_path() / "railvib_csv_uncommitted.csv";
+  const fs::path path = csvScratchFile("uncommitted.csv");
   fs::remove(path);
   {
     CsvWriter w(path.string(), {"a"});
     w.row({1.0});
   }  // destroyed without commit(), as when a run throws half way
   EXPECT_FALSE(fs::exists(path));
-  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path())) {
-    EXPECT_EQ(entry.path().filename().string().rfind("railvib_csv_uncommitted.csv.tmp", 0), std::string::npos);
+  for (const auto& entry : fs::directory_iterator(path.parent_path())) {
+    EXPECT_EQ(entry.path().filename().string().rfind("uncommitted.csv.tmp", 0), std::string::npos);
   }
 }
 
 TEST(Csv, RejectsMalformedRows) {
-  const fs::path path = fs::temp_directory_path() / "railvib_csv_bad.csv";
+  const fs::path path = csvScratchFile("bad.csv");
   std::ofstream(path) << "a,b\n1,2\n3,x\n";
   EXPECT_THROW(readCsv(path.string()), std::runtime_error);
   std::ofstream(path) << "a,b\n1,2,3\n";
@@ -48,7 +57,7 @@ TEST(Csv, RejectsMalformedRows) {
 }
 
 TEST(Csv, ReadsCrLfFiles) {
-  const fs::path path = fs::temp_directory_path() / "railvib_csv_crlf.csv";
+  const fs::path path = csvScratchFile("crlf.csv");
   std::ofstream(path) << "t_s,vz\r\n0,1.5\r\n";
   const auto table = readCsv(path.string());
   EXPECT_EQ(table.column("vz"), 1u);

@@ -22,6 +22,7 @@
 #include "railvib/track/track_model.hpp"
 #include "railvib/track/track_newmark.hpp"
 #include "railvib/vehicle/passage.hpp"
+#include "test_scratch.hpp"
 #include "vehicle_test_util.hpp"
 
 using namespace railvib;
@@ -259,9 +260,8 @@ std::string errorOf(const std::vector<std::string>& overrides) {
   return "";
 }
 std::string profileFile(const std::string& name, const std::string& header) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "railvib_passage_full_width";
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / name).string();
+  static const railvib::test::ScratchDir scratch("passage_full_width");
+  const std::string path = scratch.file(name).string();
   std::ofstream f(path);
   f << header << "\n";
   const int columns = static_cast<int>(std::count(header.begin(), header.end(), ','));
