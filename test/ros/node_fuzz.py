@@ -507,6 +507,10 @@ def run_case(h, sc, index, case):
     log = open(h.log_dir / f"{name}.log", "w+")
     # Before the node starts: a refusal of a latched layout may come before the first block is sent.
     h.diagnostics = [d for d in h.diagnostics if d[0] != status_name]
+
+    def node_errors():  # this node's ERRORs on /diagnostics so far
+        return [d for d in h.diagnostics if d[0] == status_name and d[1] == 2]
+
     proc = subprocess.Popen([node_binary(exe), f"__name:={name}"], stdout=log, stderr=subprocess.STDOUT, env=h.env,
                             start_new_session=True)
     result = {"group": "node " + node, "case": title, "expected": expected}
@@ -538,14 +542,14 @@ def run_case(h, sc, index, case):
         # condition, bounded; only a node that did not refuse as expected waits the whole bound).
         deadline = time.time() + DIAGNOSTICS_S
         while (expected != "finished" and proc.returncode == 1 and time.time() < deadline
-               and not any(d[0] == status_name and d[1] == 2 and fragment in d[2] for d in h.diagnostics)):
+               and not any(fragment in e[2] for e in node_errors())):
             time.sleep(0.05)
     finally:
         log.seek(0)
         output = log.read()
         log.close()
     code = proc.returncode
-    errors = [d for d in h.diagnostics if d[0] == status_name and d[1] == 2]
+    errors = node_errors()
     crash = code is not None and code < 0 and code != -signal.SIGINT
     marker = next((m for m in CRASH_MARKERS if m in output), None)
     result["exit_code"] = code
