@@ -169,6 +169,9 @@ TEST(Scenario, GroundSensorsOnTheTwoWayFoundationAreNamed) {
 // ~10 x longer (test_sampling.hpp).
 size_t fuzzStride() { return railvib::test::sampleStride(); }
 
+// A plain scalar that no config holds, standing for a leaf's value in the written tree.
+const std::string kSlot = "railvib_fuzz_value_slot";
+
 TEST(ScenarioFuzz, EveryValueReplacedByNonsenseIsRefusedByItsKey) {
   const YAML::Node tree = ciTree();
   std::vector<Leaf> leaves;
@@ -184,11 +187,21 @@ TEST(ScenarioFuzz, EveryValueReplacedByNonsenseIsRefusedByItsKey) {
     if (isNumber(leaf.value)) {
       for (const char* v : {".nan", ".inf", "-.inf", "1.0e+300", "-1.0e+300", "abc"}) bad.push_back(v);
     }
+    std::vector<std::string> chosen;
     for (const std::string& b : bad) {
-      if (seen++ % stride != 0) continue;
-      YAML::Node copy = YAML::Clone(tree);
-      at(copy, leaf, leaf.keys.size() - 1)[leaf.keys.back()] = YAML::Load(b);
-      const std::string message = verdictOfText(emit(copy));
+      if (seen++ % stride == 0) chosen.push_back(b);
+    }
+    if (chosen.empty()) continue;
+    // The tree is cloned and written once per leaf, with a placeholder at the leaf; each nonsense value
+    // is put in its place in the text (each is flow YAML, valid in block and flow context alike).
+    YAML::Node copy = YAML::Clone(tree);
+    at(copy, leaf, leaf.keys.size() - 1)[leaf.keys.back()] = kSlot;
+    const std::string text = emit(copy);
+    const size_t slot = text.find(kSlot);
+    ASSERT_NE(slot, std::string::npos) << leaf.path;
+    ASSERT_EQ(text.find(kSlot, slot + 1), std::string::npos) << leaf.path << ": placeholder written twice";
+    for (const std::string& b : chosen) {
+      const std::string message = verdictOfText(text.substr(0, slot) + b + text.substr(slot + kSlot.size()));
       ++cases;
       // The key path is named (list entries by their own path, e.g. soil.layers[2].thickness_m).
       if (message.empty()) {
