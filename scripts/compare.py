@@ -52,7 +52,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib import animation  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
 import bag_check  # noqa: E402
@@ -480,8 +479,7 @@ def section_figures(free, house, outdir, times, window_s, depth_m):
         axes[1].set_title(f"with the house (two-way), t = {house.section_t[j]:.2f} s", fontsize=9)
         return ims
 
-    anim = animation.FuncAnimation(fig, frame, frames=len(idx), blit=False)
-    anim.save(outdir / "section.gif", writer=animation.PillowWriter(fps=10), dpi=80)
+    railvib_plots.save_gif(fig, frame, len(idx), outdir / "section.gif", fps=10, dpi=80)
     plt.close(fig)
     return ["section_snapshots.png", "section.gif"]
 

@@ -165,3 +165,25 @@ def fit_title(fig, text, fontsize=10, y=None):
         if title.get_window_extent(renderer).width <= 0.98 * width_px or chars <= 20:
             return wrapped.count("\n") + 1
         chars = int(chars * 0.85)
+
+
+def save_gif(fig, update, frame_count, path, fps=10, dpi=80):
+    """An animated GIF of fig: update(k) changes the artists for frame k (data, titles), never their
+    sizes. The layout (constrained or tight) is computed once, on the first frame, then kept; each frame
+    is drawn once. (matplotlib's FuncAnimation with PillowWriter laid the figure out and drew it twice
+    per frame: 22 s for a 39-frame section animation, where this takes a fraction.)"""
+    from PIL import Image
+
+    fig.set_dpi(dpi)
+    images = []
+    for k in range(frame_count):
+        update(k)
+        fig.canvas.draw()
+        if k == 0:
+            fig.set_layout_engine("none")  # keeps the positions the first draw gave the axes
+        width, height = fig.canvas.get_width_height()
+        images.append(Image.frombuffer("RGBA", (width, height), bytes(fig.canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
+                      .convert("RGB"))
+    if not images:
+        raise ValueError("save_gif: no frames")
+    images[0].save(path, save_all=True, append_images=images[1:], duration=int(round(1000.0 / fps)), loop=0)

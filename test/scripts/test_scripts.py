@@ -328,6 +328,17 @@ class Compare(unittest.TestCase):
         self.assertEqual(result["figures"], ["floors_vs_free_field.png", "section_snapshots.png", "section.gif"])
         for f in result["figures"]:
             self.assertGreater((WORK / "cmp" / f).stat().st_size, 10000, f)
+        # The animation: a frame per 10 ms snapshot over the 0.3 s window around the four chosen times
+        # (0.09 s apart), 10 frames per second, looping; the frames differ as the wave passes.
+        from PIL import Image, ImageChops
+        with Image.open(WORK / "cmp" / "section.gif") as gif:
+            self.assertIn(gif.n_frames, (39, 40))
+            self.assertEqual((gif.info["duration"], gif.info["loop"]), (100, 0))
+            frames = []
+            for k in (0, gif.n_frames // 2):
+                gif.seek(k)
+                frames.append(gif.convert("RGB"))
+            self.assertIsNotNone(ImageChops.difference(*frames).getbbox(), "the animation does not change")
         rec = result["records"]
         self.assertAlmostEqual(rec["soil under the house"]["ppv_z_mm_s"] / rec["free field"]["ppv_z_mm_s"], 0.5,
                                places=9)
