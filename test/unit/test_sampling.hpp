@@ -2,9 +2,11 @@
 // run 7 to 30 times slower than in the release build, so `./railvib sanitize` sets
 // RAILVIB_TEST_SAMPLE_STRIDE=n: a test that sweeps many like cases (frequencies of a receptance, values
 // of a config fuzz) takes every n-th of them there, the first and the last always, and all of them in the
-// regular build. The code paths are the same; only how many times they run differs.
+// regular build; a long time loop of like steps runs 1/n of its steps there. The code paths are the
+// same; only how many times they run differs.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
 #include <vector>
 
@@ -28,6 +30,12 @@ std::vector<T> sampled(const std::vector<T>& cases) {
   for (size_t i = 0; i < cases.size(); i += stride) out.push_back(cases[i]);
   if ((cases.size() - 1) % stride != 0) out.push_back(cases.back());
   return out;
+}
+
+// The steps of a time loop whose every step runs the same code (an energy balance held step by step):
+// all `steps` in the regular build, every n-th as many (at least `minimum`) in the sanitizer run.
+inline int sampledSteps(int steps, int minimum = 1) {
+  return std::min(steps, std::max(minimum, steps / static_cast<int>(sampleStride())));
 }
 
 }  // namespace railvib::test
