@@ -9,11 +9,11 @@
   streams that stopped named by the bag check);
 - a truncated bag given to replay.launch is refused with a clear error and a
   non-zero exit, not a crash;
-- the soil over 2 MPI ranks (soil_ranks:=2): the same bag as one rank to float round-off; one rank
-  killed mid-run stops the launch and leaves a readable bag that names the cut streams; an mpirun
-  that does not exist is a clear error;
 - the full-width graph (width:=full): with the pad on both rails, the half graph's soil, house and sensor
   streams; with the pad on one rail, a whole bag, the pad's wheel hitting as hard and its partner not;
+- the soil over 2 MPI ranks (soil_ranks:=2, the full-width run with the pad on one rail): the same bag
+  as one rank to float round-off; one rank killed mid-run stops the launch and leaves a readable bag
+  that names the cut streams; an mpirun that does not exist is a clear error;
 - `./railvib run` exits 0 on a good run (with its report) and non-zero on a refused one;
 - with ROS_IP=127.0.0.1 every listening socket of every process of a launch
   (master, rosout, the railvib nodes) is bound to loopback (`ss -ltnp`);
@@ -130,23 +130,6 @@ class ScenarioChecks(unittest.TestCase):
     # solver's rank test does: steps x 2^-24 of each field's peak (test/mpi/test_soil_mpi.cpp).
     RANKS_TOLERANCE = 3000 * 2.0 ** -24
 
-    def test_soil_on_two_ranks_agrees_with_one_rank(self):
-        one = haren_run(self, "a")
-        bag = WORK / "ranks2.bag"
-        code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag), "soil_ranks:=2",
-                            self.MPIRUN], env_extra=self.MPI_ENV)
-        self.assertEqual(code, 0, out[-3000:])
-        self.assertIn('"partition":"2 ranks, element columns', out, "the soil did not run on 2 ranks")
-        checked = bag_check.check_bag(bag)
-        self.assertEqual(checked.code, 0, f"{checked.refused} {checked.findings}")
-        # Upstream of the soil nothing changes; the soil's outputs and everything after agree to round-off.
-        for topic in (names.CONTACT_FORCES, names.SOIL_LOADS):
-            same, line = compare_topic(one, bag, topic)
-            self.assertTrue(same, line)
-        for topic in [t for t in STREAMS if t not in (names.CONTACT_FORCES, names.SOIL_LOADS)] + [names.SENSOR_METRICS]:
-            same, line = compare_topic(one, bag, topic, self.RANKS_TOLERANCE)
-            self.assertTrue(same, line)
-
     # Full width, pad on both rails vs the half model: the vehicle's explicit effective-stiffness inverse
     # rounds differently for 36 and 20 DOF and the 1 GN/m contact amplifies it (contact forces agree to
     # ~2e-8 of their peak, docs/validation.md "One rail or both"); downstream that stays far below 1e-5.
@@ -196,15 +179,20 @@ class ScenarioChecks(unittest.TestCase):
         self.assertLess(abs(left_peaks[0] / both_peaks[0] - 1.0), 0.05, (left_peaks[0], both_peaks[0]))
         self.assertGreater(left_peaks[0], 2.0 * static[0], "the pad's wheel did not hit the pad")
         self.assertLess(left_peaks[1], 1.5 * static[1], (left_peaks[1], static[1]))
-        # The seats' loads over 2 soil ranks (each rank builds its slab with the seats): as on one rank.
+        # The soil over 2 MPI ranks under roslaunch (each rank builds its slab with the seats): as on one rank.
+        # (The half track's single seat per sleeper on 2 ranks is test_soil_mpi's, here and across two hosts
+        # in netns_hosts: this launch covers mpirun under roslaunch.)
         bag = WORK / "full_width_left_ranks2.bag"
         code, out = launch(["railvib", "haren.launch", "config:=" + CONFIG, "bag:=" + str(bag), "width:=full",
                             "defect_rails:=left", "soil_ranks:=2", self.MPIRUN], env_extra=self.MPI_ENV)
         self.assertEqual(code, 0, out[-3000:])
+        self.assertIn('"partition":"2 ranks, element columns', out, "the soil did not run on 2 ranks")
+        checked = bag_check.check_bag(bag)
+        self.assertEqual(checked.code, 0, f"2 ranks: {checked.refused} {checked.findings}")
         for topic in (names.CONTACT_FORCES, names.SOIL_LOADS):
             same, line = compare_topic(runs["left"], bag, topic)
             self.assertTrue(same, line)
-        for topic in (names.SURFACE_VELOCITIES, names.BUILDING_RESPONSE, names.SENSOR_SAMPLES):
+        for topic in (names.SURFACE_VELOCITIES, names.BUILDING_RESPONSE, names.SENSOR_SAMPLES, names.SENSOR_METRICS):
             same, line = compare_topic(runs["left"], bag, topic, self.RANKS_TOLERANCE)
             self.assertTrue(same, line)
 
