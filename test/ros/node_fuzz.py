@@ -493,6 +493,11 @@ def run_case(h, sc, index, case):
                 names.BUILDING_POINTS: house_layout}
     for topic in needs:
         h.pub[topic].publish((layouts.get(topic) or defaults[topic])(sc, rm))
+    if node == "soil" and expected != "finished":
+        # The house's foundation in the soil (two-way) is built at the node's start and stepped in the control
+        # case; a refusal is of the streams, at the node's boundary, where the house changes nothing: the
+        # refusal cases start the soil without it (the node's most expensive start, under the sanitizers).
+        params = dict(params, include_building_footprint=False)
     for key, value in params.items():
         rospy.set_param(f"/{name}/{key}", value)
     bag = h.log_dir / f"{name}.bag"
