@@ -1009,7 +1009,8 @@ class Workspace(unittest.TestCase):
         (bin_dir / "ctest").write_text(FAKE_CTEST)
         (bin_dir / "ctest").chmod(0o755)
         log = self.root / "ctest_log"
-        env = {**self.env, "RAILVIB_CTEST": str(bin_dir / "ctest"), "FAKE_CTEST_LOG": str(log)}
+        env = {**self.env, "RAILVIB_CTEST": str(bin_dir / "ctest"), "FAKE_CTEST_LOG": str(log),
+               "FAKE_SAN_BUILD_S": "3"}
         r = subprocess.run(["bash", str(self.root / "railvib"), "test"], env=env, capture_output=True, text=True,
                            timeout=120)
         self.assertNotEqual(r.returncode, 0, r.stderr)
@@ -1019,6 +1020,12 @@ class Workspace(unittest.TestCase):
         self.assertLessEqual(float(release[3]), ctest[0])  # the Release build ended before the tests
         self.assertLess(float(san[1]), ctest[1])  # the sanitizer build began while they ran
         self.assertGreater(float(san[1]), float(release[3]))
+        # The sanitizer build in two parts: what the node fuzz runs, then the unit tests; the fuzz starts
+        # after the first part, at the command's priority, while the second part still compiles.
+        self.assertEqual(san[0::2], ["start", "end", "start", "end"])
+        fuzz_started = (self.root / ".ws_san" / "build" / "test_results" / "railvib" / "san-node-fuzz.log").stat().st_mtime
+        self.assertGreater(fuzz_started, float(san[3]))
+        self.assertLess(fuzz_started, float(san[7]))
         self.assertIn("nice 0", (self.root / ".ws" / "launcher").read_text())
         self.assertIn("nice 19", (self.root / ".ws_san" / "launcher").read_text())
         self.assertRegex(r.stderr, r"time: build .*, tests \(the sanitizer build beside them\) \d+ min \d\d s, "
