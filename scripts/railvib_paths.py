@@ -4,7 +4,11 @@ import shutil
 
 
 def find_railvib_tool():
-    """railvib_tool of the built workspace (devel space on CMAKE_PREFIX_PATH), else PATH; None if absent."""
+    """railvib_tool: the one RAILVIB_TOOL names, else the built workspace's (devel space on
+    CMAKE_PREFIX_PATH), else PATH's; None if absent. (The sanitizer workspace builds no tool: its node
+    fuzz is given the regular build's through RAILVIB_TOOL.)"""
+    if os.environ.get("RAILVIB_TOOL"):
+        return os.environ["RAILVIB_TOOL"]
     for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
         candidate = os.path.join(prefix, "lib", "railvib", "railvib_tool")
         if prefix and os.access(candidate, os.X_OK):

@@ -38,7 +38,6 @@ import csv
 import itertools
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 import threading
@@ -57,7 +56,7 @@ import railvib_names as names  # noqa: E402
 import railvib_plots  # noqa: E402
 import railvib_process  # noqa: E402
 import railvib_yaml  # noqa: E402
-from railvib_paths import OutputDirError, output_dir  # noqa: E402
+from railvib_paths import find_railvib_tool, OutputDirError, output_dir  # noqa: E402
 import railvib_verdicts as verdicts  # noqa: E402
 
 try:
@@ -161,7 +160,7 @@ def measure_runs(spec, measures):
 
 def validate_measures(base, runs):
     """Each run's configuration through railvib_tool config-check (the loaders' own checks) before any run."""
-    tool = os.environ.get("RAILVIB_TOOL") or shutil.which("railvib_tool")
+    tool = find_railvib_tool()
     if not tool:
         print("railvib study: railvib_tool not found: the measures' keys are checked when each run starts")
         return

@@ -38,7 +38,7 @@ sys.path.insert(0, str(ROOT / "test" / "ros"))
 from junit_xml import run_verbose, write_junit  # noqa: E402
 
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_properties_"))
-TOOL = os.environ.get("RAILVIB_TOOL") or find_railvib_tool()
+TOOL = find_railvib_tool()
 BOUNDED = settings(max_examples=int(os.environ.get("RAILVIB_PROPERTY_EXAMPLES", "120")), deadline=None,
                    derandomize=True, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 CRASH_MARKERS = ("terminate called", "Segmentation fault", "Aborted", "AddressSanitizer", "runtime error:",

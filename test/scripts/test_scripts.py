@@ -1023,6 +1023,14 @@ class Workspace(unittest.TestCase):
         # The sanitizer build in two parts: what the node fuzz runs, then the unit tests; the fuzz starts
         # after the first part, at the command's priority, while the second part still compiles.
         self.assertEqual(san[0::2], ["start", "end", "start", "end"])
+        # The nodes and the messages first, the unit tests second; never railvib_tool (the fuzz is given
+        # the regular build's).
+        san_args = [line for line in (self.root / ".ws_san" / "launcher").read_text().splitlines()
+                    if line.startswith("args ")]
+        self.assertEqual(len(san_args), 2, san_args)
+        self.assertIn(" soil_node ", san_args[0] + " ")
+        self.assertIn(" test_soil ", san_args[1] + " ")
+        self.assertNotIn("railvib_tool", " ".join(san_args))
         fuzz_started = (self.root / ".ws_san" / "build" / "test_results" / "railvib" / "san-node-fuzz.log").stat().st_mtime
         self.assertGreater(fuzz_started, float(san[3]))
         self.assertLess(fuzz_started, float(san[7]))

@@ -110,7 +110,7 @@ TEST(FootprintCompliance, FarFootprintsMoveAsUnderAPointLoadOnAHalfSpace) {
   EXPECT_THROW(c.compliance(c.distanceCount(), 10.0), std::out_of_range);
 }
 
-// The same run, short (the sanitizer build's stand-in for the test above, test/sanitizer/long_tests.txt):
+// The same run, short (the sanitizer build's stand-in for the test above, test/sanitizer/regular_only.txt):
 // the response is linear in the force (the compliance does not change with it) and the two sides of the
 // loaded footprint agree on this symmetric grid.
 TEST(FootprintCompliance, ShortRunIsLinearAndSymmetric) {

@@ -55,7 +55,7 @@ TEST(SoilScreening, OpenTrenchScreensAsTheFieldTestsShowAndASoftFillLess) {
 }
 
 // The same computation on a box too small to screen anything physical (0.5 m elements, 25-35 Hz, 60 ms),
-// for the sanitizer build (test/sanitizer/long_tests.txt): a ratio per frequency and barrier, finite and
+// for the sanitizer build (test/sanitizer/regular_only.txt): a ratio per frequency and barrier, finite and
 // positive, the depths normalised by the Rayleigh wavelength.
 TEST(SoilScreening, ShortRunGivesARatioPerFrequencyAndBarrier) {
   ScreeningSpec spec = defaultScreeningSpec();
