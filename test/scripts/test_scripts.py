@@ -733,6 +733,16 @@ class ReportFigures(unittest.TestCase):
         self.assertNotIn("Traceback", run.stderr)
         return out, json.loads((out / "report.json").read_text()), (out / "report.md").read_text()
 
+    # The report of the default synthetic bag, per set of options: run once and read by every test that
+    # checks a part of it (a report is ~2 s of CPU).
+    _default_reports = {}
+
+    def default_report(self, *extra):
+        if extra not in ReportFigures._default_reports:
+            bag = report_bag(WORK / f"rf_default_{len(ReportFigures._default_reports)}.bag")
+            ReportFigures._default_reports[extra] = self.report(bag, *extra)
+        return ReportFigures._default_reports[extra]
+
     def tool_json(self, *args):
         import report
         out = subprocess.run(report.tool() + list(args), capture_output=True, text=True)
@@ -751,7 +761,7 @@ class ReportFigures(unittest.TestCase):
         self.assertAlmostEqual(report.spectrum_range_hz(100.0, 1000.0), 45.0)
 
     def test_the_spectra_share_one_range_and_mark_the_mesh_resolution(self):
-        out, shown, md = self.report(report_bag(WORK / "rf_spectra.bag"))
+        out, shown, md = self.default_report()
         self.assertEqual(shown["spectrum"]["range_hz"], [0.0, 100.0])
         self.assertEqual(shown["spectrum"]["mesh_f_max_hz"], 37.5)
         self.assertEqual(shown["spectrum"]["unit"], "(mm/s)/Hz")
@@ -778,7 +788,7 @@ class ReportFigures(unittest.TestCase):
             self.assertEqual(s["period"], period)
 
     def test_impact_times_are_the_wheels_crossings_of_the_defect(self):
-        out, shown, md = self.report(report_bag(WORK / "rf_impacts.bag"))
+        out, shown, md = self.default_report()
         cf = shown["contact_forces"]
         expected = [(REPORT_DEFECT_M - REPORT_FRONT_START_M + o) / REPORT_SPEED_M_S for o in REPORT_AXLE_OFFSETS_M]
         for got, want in zip(cf["impact_times_s"], expected):
@@ -804,13 +814,13 @@ class ReportFigures(unittest.TestCase):
         self.assertIn("defect position is not known", md)
 
     def test_the_governing_component_is_plotted_beside_vz(self):
-        _, shown, md = self.report(report_bag(WORK / "rf_governing.bag"))
+        _, shown, md = self.default_report()
         self.assertEqual(shown["sensors"]["ground_2m"]["plotted_components"], ["vz"])
         self.assertEqual(shown["sensors"]["house_first_floor"]["plotted_components"], ["vz", "vy"])
         self.assertIn("house_first_floor: vy", md)
 
     def test_the_standards_figure_draws_each_component_against_the_guideline_where_it_applies(self):
-        out, shown, md = self.report(report_bag(WORK / "rf_standards.bag"))
+        out, shown, md = self.default_report()
         self.assertTrue((out / "standards.png").exists())
         self.assertIn("![standards.png](standards.png)", md)
         ground, floor = shown["standards"]["ground_2m"], shown["standards"]["house_first_floor"]
@@ -848,7 +858,7 @@ class ReportFigures(unittest.TestCase):
 
     def test_the_exposure_rating_is_the_tools_on_the_recorded_samples(self):
         for extra, exposure_s in (((), 1.0), (("--exposure-s", "3600"), 3600.0)):
-            out, shown, md = self.report(report_bag(WORK / "rf_exposure.bag"), *extra)
+            out, shown, md = self.default_report(*extra)
             # Rated where the sensor stands: the free-field one is not judged, the floor one is.
             for name, kind in (("ground_2m", "free_field"), ("house_first_floor", "floor")):
                 tool = self.tool_json("metrics", "--csv", str(out / f"{name}_velocity.csv"), "--column", "vx,vy,vz",
@@ -862,7 +872,7 @@ class ReportFigures(unittest.TestCase):
             self.assertIn("only decides the WARN case", md)
 
     def test_the_scenario_is_shown_and_its_config_written(self):
-        out, shown, md = self.report(report_bag(WORK / "rf_scenario.bag"))
+        out, shown, md = self.default_report()
         self.assertTrue(shown["scenario_recorded"])
         self.assertEqual(yaml.safe_load((out / "scenario.yaml").read_text()), REPORT_CONFIG)
         for text in ("## Scenario", "test-1.2.3", "`./railvib run haren speed:=8.0`", "/work/config/haren.yaml",
