@@ -233,6 +233,8 @@ def config_cases():
     files = [
         ("alias bomb", write("yaml/bomb.yaml", bomb), "aliases nested"),
         ("alias expansion", write("yaml/wide.yaml", wide), "once its aliases are expanded"),
+        ("a value that contains itself", write("yaml/cycle.yaml", "track: &t\n  sleeper: *t\n"),
+         "would contain itself"),
         ("10 MB config", write("yaml/big.yaml", "a:\n" + "  # padding\n" * 1000000), "bytes, more than"),
         ("a directory as config", WORK, "is a directory, not a config file"),
         ("missing config", WORK / "none.yaml", "file not found"),

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -84,59 +85,101 @@ size_t editDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-// Parse events of one YAML text, checked before yaml-cpp builds its node graph: no repeated key in
-// a map, keys are plain scalars, bounded nesting, and bounded aliases (an alias of an anchor
-// holding aliases, no deeper; bounded size once expanded), so an alias bomb is refused before it
-// is walked.
-class StrictYamlChecker : public YAML::EventHandler {
+// One pass over the parse events of one YAML text that checks them and builds the node tree (as
+// yaml-cpp's own YAML::Load builds it: tags, styles, shared nodes for aliases): no repeated key in a
+// map, keys are plain scalars, bounded nesting, and bounded aliases (an alias of an anchor holding
+// aliases, no deeper; bounded size once expanded; never an alias inside the value its anchor names,
+// a value that would contain itself), so an alias bomb or a cycle is refused before anything walks it.
+// The first refusal waits for the document's end: a syntax error the parser finds later in the text
+// is said first (what is wrong with the text before what is wrong with its values).
+class StrictYamlReader : public YAML::EventHandler {
  public:
-  explicit StrictYamlChecker(std::string label) : label_(std::move(label)) {}
+  explicit StrictYamlReader(std::string label) : label_(std::move(label)) {}
+
+  // The document's root (a null node for an empty text).
+  const YAML::Node& root() const { return root_; }
 
   void OnDocumentStart(const YAML::Mark&) override {
     if (++documents_ > 1) throw ConfigError("config error in " + label_ + ": more than one YAML document");
   }
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { leaf(mark, anchor, "~"); }
-  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
-    leaf(mark, anchor, value);
+  void OnDocumentEnd() override {
+    if (refusal_) throw *refusal_;
+  }
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    checked([&] { leaf(mark, anchor, "~", YAML::Node(YAML::NodeType::Null)); });
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                const std::string& value) override {
+    checked([&] {
+      YAML::Node node(value);
+      node.SetTag(tag);
+      leaf(mark, anchor, value, node);
+    });
   }
   void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    checked([&] { alias(mark, anchor); });
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                       YAML::EmitterStyle::value style) override {
+    checked([&] { open(mark, tag, anchor, false, style); });
+  }
+  void OnSequenceEnd() override {
+    checked([&] { close(); });
+  }
+  void OnMapStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                  YAML::EmitterStyle::value style) override {
+    checked([&] { open(mark, tag, anchor, true, style); });
+  }
+  void OnMapEnd() override {
+    checked([&] { close(); });
+  }
+
+ private:
+  // An event is read while nothing was refused; after a refusal the parser runs on for its syntax
+  // errors only (nothing is built, so an alias bomb stays unexpanded).
+  template <class Read>
+  void checked(Read&& read) {
+    if (refusal_) return;
+    try {
+      read();
+    } catch (const ConfigError& e) {
+      refusal_.emplace(e);
+    }
+  }
+  void alias(const YAML::Mark& mark, YAML::anchor_t anchor) {
     if (!stack_.empty() && stack_.back().is_map && stack_.back().expect_key) {
       fail(mark, "an alias cannot be a key");
     }
+    for (const Frame& open_frame : stack_) {
+      if (open_frame.anchor == anchor) {
+        fail(mark, "an alias inside the value its anchor names (a value that would contain itself)");
+      }
+    }
     const auto it = anchors_.find(anchor);
-    const size_t size = it == anchors_.end() ? 1 : it->second.size;
-    const int depth = (it == anchors_.end() ? 0 : it->second.alias_depth) + 1;
+    if (it == anchors_.end()) fail(mark, "an alias of no anchor");
+    const int depth = it->second.alias_depth + 1;
     if (depth > kMaxAliasDepth) {
       fail(mark, "aliases nested " + std::to_string(depth) + " deep (an anchor that holds aliases of anchors " +
                      "that hold aliases...); at most " + std::to_string(kMaxAliasDepth) + " allowed");
     }
-    add(mark, size, depth);
-    valueDone();
+    add(mark, it->second.size, depth);
+    attach(it->second.node);
   }
-  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
-                       YAML::EmitterStyle::value) override {
-    open(mark, anchor, false);
-  }
-  void OnSequenceEnd() override { close(); }
-  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
-                  YAML::EmitterStyle::value) override {
-    open(mark, anchor, true);
-  }
-  void OnMapEnd() override { close(); }
 
- private:
   struct Frame {
     bool is_map = false;
     bool expect_key = true;
     std::map<std::string, int> keys;  // key -> line
     std::string path;
     std::string pending_key;
+    YAML::Node pending_key_node;
+    YAML::Node node;  // the map or list being built
     YAML::anchor_t anchor = 0;
     size_t size = 1;
     int alias_depth = 0;
   };
   struct Anchor {
+    YAML::Node node;
     size_t size = 1;
     int alias_depth = 0;
   };
@@ -144,7 +187,6 @@ class StrictYamlChecker : public YAML::EventHandler {
   [[noreturn]] void fail(const YAML::Mark& mark, const std::string& reason) const {
     throw ConfigError("config error in " + label_ + ":" + std::to_string(mark.line + 1) + ": " + reason);
   }
-  std::string here() const { return stack_.empty() ? std::string() : stack_.back().path; }
   std::string childPath() const {
     if (stack_.empty()) return "";
     const Frame& f = stack_.back();
@@ -160,11 +202,23 @@ class StrictYamlChecker : public YAML::EventHandler {
       stack_.back().alias_depth = std::max(stack_.back().alias_depth, alias_depth);
     }
   }
-  // A value (scalar, alias or collection) ended: the next scalar of a map is a key again.
-  void valueDone() {
-    if (!stack_.empty() && stack_.back().is_map) stack_.back().expect_key = true;
+  // A finished value (scalar, alias or collection) goes into the map or list around it, or is the root;
+  // the next scalar of a map is a key again.
+  void attach(const YAML::Node& value) {
+    if (stack_.empty()) {
+      root_.reset(value);
+      return;
+    }
+    Frame& f = stack_.back();
+    if (f.is_map) {
+      f.node.force_insert(f.pending_key_node, value);
+      f.expect_key = true;
+    } else {
+      f.node.push_back(value);
+    }
   }
-  void leaf(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& value) {
+  void leaf(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& value, const YAML::Node& node) {
+    if (anchor) remember(anchor, Anchor{node, 1, 0});
     if (!stack_.empty() && stack_.back().is_map && stack_.back().expect_key) {
       Frame& f = stack_.back();
       const auto [it, inserted] = f.keys.emplace(value, mark.line + 1);
@@ -173,15 +227,22 @@ class StrictYamlChecker : public YAML::EventHandler {
                        "); a repeated key would silently keep one of the values");
       }
       f.pending_key = value;
+      // reset, not =: assigning to a yaml-cpp node that holds one would rewrite the node it holds
+      // (the previous key, already in the map).
+      f.pending_key_node.reset(node);
       f.expect_key = false;
       add(mark, 1, 0);
       return;
     }
-    if (anchor) anchors_[anchor] = Anchor{1, 0};
     add(mark, 1, 0);
-    valueDone();
+    attach(node);
   }
-  void open(const YAML::Mark& mark, YAML::anchor_t anchor, bool is_map) {
+  void remember(YAML::anchor_t anchor, Anchor value) {
+    anchors_.erase(anchor);  // (never assigned over: see pending_key_node)
+    anchors_.emplace(anchor, std::move(value));
+  }
+  void open(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor, bool is_map,
+            YAML::EmitterStyle::value style) {
     if (!stack_.empty() && stack_.back().is_map && stack_.back().expect_key) {
       fail(mark, "a key must be a plain name, not a " + std::string(is_map ? "map" : "list"));
     }
@@ -192,23 +253,28 @@ class StrictYamlChecker : public YAML::EventHandler {
     f.is_map = is_map;
     f.path = childPath();
     f.anchor = anchor;
+    f.node.reset(YAML::Node(is_map ? YAML::NodeType::Map : YAML::NodeType::Sequence));
+    f.node.SetTag(tag);
+    f.node.SetStyle(style);
     stack_.push_back(std::move(f));
   }
   void close() {
     Frame f = std::move(stack_.back());
     stack_.pop_back();
-    if (f.anchor) anchors_[f.anchor] = Anchor{f.size, f.alias_depth};
+    if (f.anchor) remember(f.anchor, Anchor{f.node, f.size, f.alias_depth});
     // The nodes inside were already counted in total_; the parent's subtree grows by them.
     if (!stack_.empty()) {
       stack_.back().size += f.size;
       stack_.back().alias_depth = std::max(stack_.back().alias_depth, f.alias_depth);
     }
-    valueDone();
+    attach(f.node);
   }
 
   std::string label_;
   std::vector<Frame> stack_;
   std::map<YAML::anchor_t, Anchor> anchors_;
+  YAML::Node root_;
+  std::optional<ConfigError> refusal_;
   size_t total_ = 0;
   int documents_ = 0;
 };
@@ -220,15 +286,13 @@ YAML::Node parseStrict(const std::string& text, const std::string& label) {
                       std::to_string(kMaxConfigBytes) + " a configuration may have");
   }
   try {
-    // yaml-cpp's own parse first, for its syntax errors; its node graph shares aliased nodes, so
-    // an alias bomb is small until walked, and the checker refuses it before anything walks it.
-    YAML::Node root = YAML::Load(text);
+    // One parse: yaml-cpp's parser for the syntax, the reader for the checks and the tree.
     std::istringstream in(text);
     YAML::Parser parser(in);
-    StrictYamlChecker checker(label);
-    while (parser.HandleNextDocument(checker)) {
+    StrictYamlReader reader(label);
+    while (parser.HandleNextDocument(reader)) {
     }
-    return root;
+    return reader.root();
   } catch (const YAML::Exception& e) {
     throw ConfigError("config error in " + label + ": not valid YAML: " + e.what());
   }
