@@ -279,7 +279,7 @@ class StrictYamlReader : public YAML::EventHandler {
   int documents_ = 0;
 };
 
-// Parse one YAML text after the strict checks; `label` names it in errors.
+// Parse one YAML text, checked while it is read (StrictYamlReader); `label` names it in errors.
 YAML::Node parseStrict(const std::string& text, const std::string& label) {
   if (text.size() > kMaxConfigBytes) {
     throw ConfigError("config error in " + label + ": " + std::to_string(text.size()) + " bytes, more than the " +
