@@ -85,11 +85,36 @@ size_t editDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// A copy of a value that shares no node with it (YAML::Clone keeps the sharing of aliases).
+YAML::Node expandedCopy(const YAML::Node& value) {
+  YAML::Node copy;
+  switch (value.Type()) {
+    case YAML::NodeType::Map:
+      copy.reset(YAML::Node(YAML::NodeType::Map));
+      for (const auto& kv : value) copy.force_insert(expandedCopy(kv.first), expandedCopy(kv.second));
+      break;
+    case YAML::NodeType::Sequence:
+      copy.reset(YAML::Node(YAML::NodeType::Sequence));
+      for (const auto& item : value) copy.push_back(expandedCopy(item));
+      break;
+    case YAML::NodeType::Scalar:
+      copy.reset(YAML::Node(value.Scalar()));
+      break;
+    default:
+      copy.reset(YAML::Node(YAML::NodeType::Null));
+      return copy;
+  }
+  copy.SetTag(value.Tag());
+  copy.SetStyle(value.Style());
+  return copy;
+}
+
 // One pass over the parse events of one YAML text that checks them and builds the node tree (as
-// yaml-cpp's own YAML::Load builds it: tags, styles, shared nodes for aliases): no repeated key in a
-// map, keys are plain scalars, bounded nesting, and bounded aliases (an alias of an anchor holding
+// yaml-cpp's own YAML::Load builds it: tags, styles; but each alias is a copy of its anchor's value,
+// not the same node, so that an override of one key path never changes another): no repeated key in
+// a map, keys are plain scalars, bounded nesting, and bounded aliases (an alias of an anchor holding
 // aliases, no deeper; bounded size once expanded; never an alias inside the value its anchor names,
-// a value that would contain itself), so an alias bomb or a cycle is refused before anything walks it.
+// a value that would contain itself), so an alias bomb or a cycle is refused before it is expanded.
 // The first refusal waits for the document's end: a syntax error the parser finds later in the text
 // is said first (what is wrong with the text before what is wrong with its values).
 class StrictYamlReader : public YAML::EventHandler {
@@ -162,8 +187,8 @@ class StrictYamlReader : public YAML::EventHandler {
       fail(mark, "aliases nested " + std::to_string(depth) + " deep (an anchor that holds aliases of anchors " +
                      "that hold aliases...); at most " + std::to_string(kMaxAliasDepth) + " allowed");
     }
-    add(mark, it->second.size, depth);
-    attach(it->second.node);
+    add(mark, it->second.size, depth);  // (refuses before the copy when the expansion is too large)
+    attach(expandedCopy(it->second.node));
   }
 
   struct Frame {

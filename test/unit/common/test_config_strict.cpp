@@ -179,19 +179,43 @@ TEST(ConfigStrict, AValueThatContainsItselfIsRefused) {
   EXPECT_NO_THROW(Config::fromString("a: &a {x: 1}\nb: {y: *a}\n"));
 }
 
+// An alias is a copy of its anchor's value, not the same node: an override of one key path changes
+// that key only, inside a section and across sections (yaml-cpp's shared node changed both).
+TEST(ConfigStrict, AnOverrideOfAnAliasedValueChangesOnlyItsKey) {
+  const fs::path dir = tempDir("aliased");
+  const fs::path file = writeFile(dir, "aliased.yaml", "a: &v {x: 1, y: 2}\nb: *v\nc:\n  d: &w {x: 1}\n  e: *w\n");
+  const Config config = Config::load(file.string(), {"a.x=5", "c.d.x=7"});
+  const YAML::Node tree = YAML::Load(config.dump());
+  EXPECT_EQ(tree["a"]["x"].as<int>(), 5);
+  EXPECT_EQ(tree["b"]["x"].as<int>(), 1);
+  EXPECT_EQ(tree["c"]["d"]["x"].as<int>(), 7);
+  EXPECT_EQ(tree["c"]["e"]["x"].as<int>(), 1);
+  EXPECT_EQ(config.dump().find('&'), std::string::npos) << config.dump();
+  fs::remove_all(dir);
+}
+
 // The loader reads a text in one pass (its checks and its tree together): the tree is the one
-// yaml-cpp's own YAML::Load builds, written the same (values, key order, styles, anchors and aliases),
-// for every shipped config file and texts with what those lack (Config::fromString keeps the tree of
-// its one text as it is).
+// yaml-cpp's own YAML::Load builds, written the same (values, key order, styles), for every shipped
+// config file and texts with what those lack (Config::fromString keeps the tree of its one text as
+// it is); an alias is its anchor's value written out.
 TEST(ConfigStrict, TheOnePassTreeIsYamlCppsTree) {
   const auto yamlCppTree = [](const std::string& text) {
     YAML::Emitter out;
     out << YAML::Load(text);
     return std::string(out.c_str());
   };
+  // With aliases: the same tree as the text with each alias replaced by its anchor's value.
+  const std::vector<std::pair<std::string, std::string>> aliased = {
+      {"a: &v 3\nb: *v\nc: [*v, {d: *v}]\n", "a: 3\nb: 3\nc: [3, {d: 3}]\n"},
+      {"a: &m {x: 1, y: [1, 2]}\nb: *m\nc:\n  - *m\n  - e: ~\n",
+       "a: {x: 1, y: [1, 2]}\nb: {x: 1, y: [1, 2]}\nc:\n  - {x: 1, y: [1, 2]}\n  - e: ~\n"},
+      {"a: &q 'text'\nb: [*q]\n", "a: 'text'\nb: ['text']\n"},
+  };
+  for (const auto& [text, written_out] : aliased) {
+    EXPECT_EQ(Config::fromString(text).dump(), yamlCppTree(written_out)) << text;
+  }
   std::vector<std::string> texts = {
-      "a: &v 3\nb: *v\nc: [*v, {d: *v}]\n",
-      "a: &m {x: 1, y: [1, 2]}\nb: *m\nc:\n  - *m\n  - e: ~\n    f:\n    g: null\n",
+      "a: {e: ~, f:, g: null}\n",
       "a: 'quoted'\nb: \"double\"\nc: !!str 3\nd: !custom x\ne: |\n  block\n  text\nf: >\n  folded\n",
       "flow: {a: [1, {b: 2}], c: []}\nblock:\n  - [1, 2]\n  - {}\nempty_list: []\nn: -1.5e-3\n",
       "z: 1\ny: 2\nx: {c: 3, b: 2, a: 1}\n",
