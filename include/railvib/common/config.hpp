@@ -8,13 +8,14 @@
 // the key path, the value, the allowed range and the file.
 //
 // Strictness: every file is at most kMaxConfigBytes, a map may not repeat a
-// key, anchors and aliases are limited (kMaxAliasDepth, kMaxExpandedNodes),
-// and every accessor of ConfigNode records the key it asked for, so
-// Config::refuseUnknownKeys() can refuse what no loader knows (a typo) with the
-// nearest valid key. A choice (e.g. `model: clm`) makes the sibling sections
-// named after its other allowed values (`winkler:`) inactive alternatives:
-// known, not read (unless a loader reads into one anyway: then its keys are
-// checked like any other).
+// key, anchors and aliases are limited (kMaxAliasDepth, kMaxExpandedNodes; an
+// alias never inside the value its anchor names, and each alias is a copy of
+// that value, so an override changes one key path only), and every accessor of
+// ConfigNode records the key it asked for, so Config::refuseUnknownKeys() can
+// refuse what no loader knows (a typo) with the nearest valid key. A choice
+// (e.g. `model: clm`) makes the sibling sections named after its other allowed
+// values (`winkler:`) inactive alternatives: known, not read (unless a loader
+// reads into one anyway: then its keys are checked like any other).
 #pragma once
 
 #include <yaml-cpp/yaml.h>
