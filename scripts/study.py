@@ -6,7 +6,8 @@ usage: ./railvib study [--file STUDY.yaml] [--vary KEY=V1,V2,...]... [--set KEY=
        ./railvib mitigate --measure NAME [--measure NAME]... [--catalogue FILE] [the options above]
 
 KEY is a launch argument of the scenario (speed, foundation, track, coupling, vehicle, duration,
-width, defect_rails, building) or a dotted config key (e.g. unevenness.defect.depth_m). --vary keys form a grid (every
+width, defect_rails, building) or a dotted config key (e.g. unevenness.defect.depth_m), which may name a
+list entry by its index (soil.layers[0].young_modulus_pa). --vary keys form a grid (every
 combination); --set and --arg hold for every run. A study file says the same in YAML:
 
     scenario: haren                 # launch file (launch/<scenario>.launch)
@@ -23,13 +24,13 @@ writes OUTDIR/study.csv (one row per run and sensor: the varied values, PPV, gov
 its peak, dominant frequency and DIN 4150-3 guideline, KB_Fmax, both verdicts; values from the
 sensors' last /sensor_metrics message, the core's), OUTDIR/study.md (the same, one table) and one
 figure per varied key (PPV and KB_Fmax of every sensor against it). Progress and an ETA are printed
-as runs finish. Exit code: 0 if every run passed, 1 if one failed (the table says which), 2 for a
-bad study.
+as runs finish. Every run's config keys are checked by railvib_tool config-check (the loaders' own
+checks) before any run. Exit code: 0 if every run passed, 1 if one failed (the table says which), 2
+for a bad study.
 
 With --measure (./railvib mitigate), the runs are the scenario without any measure (the baseline) and
 once with each named measure of the catalogue (config/mitigation.yaml, or --catalogue FILE: NAME:
-{description, set: {dotted keys}}), every measure's keys validated by railvib_tool config-check before
-any run; besides the study's tables it writes the insertion loss of each measure (scripts/mitigation.py:
+{description, set: {dotted keys}}); besides the study's tables it writes the insertion loss of each measure (scripts/mitigation.py:
 mitigation.md, mitigation.csv per band, mitigation_summary.csv, mitigation.png).
 """
 import argparse
@@ -38,6 +39,7 @@ import csv
 import itertools
 import os
 import pathlib
+import re
 import subprocess
 import sys
 import threading
@@ -91,11 +93,20 @@ def parse_value(text):
         return text
 
 
+# One step of a config key path: a word, or a word and the index of a list entry under it (layers[0]).
+KEY_STEP = re.compile(r"[A-Za-z0-9_]+(\[[0-9]+\])*")
+
+
+def is_config_key(key):
+    """A config key path (a.b.c, soil.layers[0].x), as opposed to a launch argument (a plain word)."""
+    return "." in key or "[" in key
+
+
 def check_key(key):
-    if "." in key:
-        parts = key.split(".")
-        if not all(p and p.replace("_", "").isalnum() for p in parts):
-            die(f"config key '{key}': expected dotted words like unevenness.defect.depth_m")
+    if is_config_key(key):
+        if not all(KEY_STEP.fullmatch(p) for p in key.split(".")):
+            die(f"config key '{key}': expected dotted words like unevenness.defect.depth_m "
+                "(a list entry by its index: soil.layers[0].thickness_m)")
         return
     if key not in LAUNCH_ARGUMENTS:
         die(f"'{key}' is neither a launch argument ({', '.join(sorted(LAUNCH_ARGUMENTS))}) nor a dotted config key")
@@ -158,22 +169,6 @@ def measure_runs(spec, measures):
     return runs
 
 
-def validate_measures(base, runs):
-    """Each run's configuration through railvib_tool config-check (the loaders' own checks) before any run."""
-    tool = find_railvib_tool()
-    if not tool:
-        print("railvib study: railvib_tool not found: the measures' keys are checked when each run starts")
-        return
-    for label, values in runs:
-        command = [tool, "config-check", "--config", str(base)]
-        for key, value in values.items():
-            if "." in key:
-                command += ["--set", mitigation.override_text(key, value)]
-        r = subprocess.run(command, capture_output=True, text=True)
-        if r.returncode != 0:
-            die(f"measure {label}: {(r.stderr or r.stdout).strip()}")
-
-
 def varied_keys(runs):
     """Keys whose value differs between runs (the study's parameters), in first-seen order."""
     keys = []
@@ -198,10 +193,57 @@ def nested(dotted):
     return out
 
 
-def write_run_config(run_dir, base_config, values):
-    """config.yaml of a run: the base config included, the run's config keys over it."""
+def list_path(key):
+    """The dotted path of the list a key's first index is into (soil.layers[0].x -> soil.layers), else None."""
+    return key.split("[", 1)[0] if "[" in key else None
+
+
+def checked_run_lists(base_config, label, values, tool):
+    """Checks a run's config keys with the loader before any run (railvib_tool config-check --dump over
+    the base with the run's keys: every loader's checks, its own rule for an index and its refusal of
+    one past the end), and returns the lists its indexed keys change (soil.layers[0].young_modulus_pa),
+    each whole as the run has it, keyed by the list's dotted path: an included file's list is replaced
+    whole by the including file's, so the run's config file holds the list. The lists hold no file
+    names (the one file key, unevenness.measured_profile.file, is in no list), whose meaning would
+    change with the file that holds them. Without railvib_tool, keys are checked when each run starts,
+    and a key into a list is refused."""
+    config_keys = [k for k in values if is_config_key(k)]
+    indexed = [k for k in config_keys if list_path(k)]
+    if not config_keys:
+        return {}
+    if not tool:
+        if indexed:
+            die(f"run {label}: a key into a list ({indexed[0]}) needs railvib_tool (./railvib setup builds it)")
+        return {}
+    command = [tool, "config-check", "--config", str(base_config), "--dump"]
+    for key in config_keys:
+        command += ["--set", mitigation.override_text(key, values[key])]
+    r = subprocess.run(command, capture_output=True, text=True)
+    if r.returncode != 0:
+        die(f"run {label}: {(r.stderr or r.stdout).strip()}")
+    merged = railvib_yaml.load(r.stdout)
+    lists = {}
+    for key in indexed:
+        path = list_path(key)
+        node = merged
+        for step in path.split("."):
+            if not isinstance(node, dict) or step not in node:
+                die(f"run {label}: {key}: no list {path} in the merged configuration")
+            node = node[step]
+        if not isinstance(node, list):
+            die(f"run {label}: {key}: {path} is not a list")
+        lists[path] = node
+    return lists
+
+
+def write_run_config(run_dir, base_config, values, lists):
+    """config.yaml of a run: the base config included, the run's config keys over it (the lists its
+    indexed keys change, whole: checked_run_lists)."""
     config = {"include": [str(base_config)]}
-    config.update(nested({k: v for k, v in values.items() if "." in k}))
+    plain = {k: v for k, v in values.items() if is_config_key(k) and not list_path(k)}
+    for path in lists:  # a key inside one of the lists is in the list already
+        plain = {k: v for k, v in plain.items() if k != path and not k.startswith(path + ".")}
+    config.update(nested({**plain, **lists}))
     path = run_dir / "config.yaml"
     path.write_text("# railvib study run: the base configuration with this run's keys over it\n"
                     + yaml.safe_dump(config, sort_keys=False))
@@ -211,7 +253,7 @@ def write_run_config(run_dir, base_config, values):
 def launch_arguments(values):
     out = []
     for k, v in values.items():
-        if "." in k:
+        if is_config_key(k):
             continue
         if isinstance(v, bool):
             v = "true" if v else "false"
@@ -246,13 +288,13 @@ class Progress:
                   f"elapsed {time.monotonic() - self.start:.0f} s, ETA {eta:.0f} s", flush=True)
 
 
-def run_one(index, label, values, options, base_config, progress):
+def run_one(index, label, values, lists, options, base_config, progress):
     run_dir = options.outdir / f"run_{index + 1:03d}"
     run_dir.mkdir(parents=True, exist_ok=True)
     bag = run_dir / "run.bag"
     for stale in run_dir.glob("run*.bag"):  # a study re-run replaces its own runs' bags
         stale.unlink()
-    config = write_run_config(run_dir, base_config, values)
+    config = write_run_config(run_dir, base_config, values, lists)
     command = options.runner + [options.scenario] + launch_arguments(values) + [f"config:={config}", f"bag:={bag}"]
     env = dict(os.environ)
     env["RAILVIB_SKIP_SETUP"] = "1"
@@ -438,17 +480,21 @@ def main(argv):
         except mitigation.CatalogueError as e:
             die(str(e))
         runs = measure_runs(spec, measures)
-        validate_measures(base, runs)
         keys = []
     else:
         measures = []
         runs = plan(spec)
         keys = varied_keys(runs)
+    # Before any run: every run's config keys through the loader's checks (and a key into a list resolved).
+    tool = find_railvib_tool()
+    if not tool:
+        print("railvib study: railvib_tool not found: the config keys are checked when each run starts")
+    run_list_values = [checked_run_lists(base, label, values, tool) for label, values in runs]
     print(f"railvib study: {len(runs)} run(s) of {options.scenario}, {options.jobs} at a time, base {base}")
     for i, (label, values) in enumerate(runs):
         print(f"  run {i + 1:3d}: {label}  [{' '.join(launch_arguments(values))}"
-              f"{' ' if any('.' in k for k in values) else ''}"
-              f"{' '.join(f'{k}={v}' for k, v in values.items() if '.' in k)}]")
+              f"{' ' if any(is_config_key(k) for k in values) else ''}"
+              f"{' '.join(f'{k}={v}' for k, v in values.items() if is_config_key(k))}]")
     if options.dry_run:
         return 0
     options.outdir = pathlib.Path(options.outdir or ROOT / "bags" / time.strftime("study_%Y%m%d_%H%M%S"))
@@ -461,8 +507,8 @@ def main(argv):
                                                               "config": str(base)}, sort_keys=False))
     progress = Progress(len(runs), options.jobs)
     with concurrent.futures.ThreadPoolExecutor(max_workers=options.jobs) as pool:
-        futures = [pool.submit(run_one, i, label, values, options, base, progress)
-                   for i, (label, values) in enumerate(runs)]
+        futures = [pool.submit(run_one, i, label, values, lists, options, base, progress)
+                   for i, ((label, values), lists) in enumerate(zip(runs, run_list_values))]
         results = [f.result() for f in futures]
     rows = rows_of(results, keys)
     write_tables(options.outdir, rows, keys)

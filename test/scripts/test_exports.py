@@ -19,6 +19,7 @@
 
 usage: test_exports.py [JUNIT_XML]
 """
+import copy
 import csv
 import json
 import math
@@ -40,6 +41,8 @@ import bag_check  # noqa: E402
 sys.path.insert(0, str(ROOT / "test" / "ros"))
 from junit_xml import run_verbose, write_junit  # noqa: E402
 import railvib_names as names  # noqa: E402
+from railvib_paths import find_railvib_tool  # noqa: E402
+import railvib_yaml  # noqa: E402
 
 import rosbag  # noqa: E402
 import rospy  # noqa: E402
@@ -461,9 +464,42 @@ class Study(unittest.TestCase):
             self.assertIn(message, r.stderr)
             self.assertFalse(list(out.glob("run_*")), measure)
 
+    def test_a_key_into_a_list_varies_that_entry_alone(self):
+        # The layered soil's top layer stiffer and softer; the other four layers and every other key as
+        # the base has them (the loader's merged configuration, railvib_tool config-check --dump).
+        tool = find_railvib_tool()
+        self.assertTrue(tool, "railvib_tool not built")
+
+        def merged(config):
+            r = subprocess.run([tool, "config-check", "--config", str(config), "--dump"], capture_output=True,
+                               text=True)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            return railvib_yaml.load(r.stdout)  # numbers as yaml-cpp reads them (84.0e6 too)
+
+        base = merged(ROOT / "config" / "haren.yaml")
+        out = WORK / "layers"
+        key = "soil.layers[0].young_modulus_pa"
+        r = self.study(out, "--vary", f"{key}=40e6,80e6", "--set", "unevenness.defect.height_m=0.5e-3")
+        self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
+        seen = []
+        for run_dir in sorted(out.glob("run_*")):
+            run = merged(run_dir / "config.yaml")
+            seen.append(run["soil"]["layers"][0]["young_modulus_pa"])
+            expected = copy.deepcopy(base)
+            expected["soil"]["layers"][0]["young_modulus_pa"] = seen[-1]
+            expected["unevenness"]["defect"]["height_m"] = 0.5e-3
+            self.assertEqual(run, expected, run_dir)
+        self.assertEqual(seen, [40e6, 80e6])
+        with open(out / "study.csv") as f:
+            self.assertEqual(sorted({float(row[key]) for row in csv.DictReader(f)}), [40e6, 80e6])
+
     def test_bad_keys_and_values_are_refused_before_any_run(self):
         for args, message in ((["--vary", "sped=1,2"], "neither a launch argument"),
                               (["--set", "soil..mesh=1"], "dotted words"),
+                              (["--set", "soil.layers[0]x.thickness_m=1"], "a list entry by its index"),
+                              (["--vary", "soil.layers[9].thickness_m=1,2"], "soil.layers has 5 entries"),
+                              # a value a loader refuses, in the second run: no run starts
+                              (["--vary", "soil.rayleigh_beta_s=4e-4,-1"], "soil.rayleigh_beta_s = -1"),
                               (["--set", "simulation.speed_m_s=[1, 2]"], "one plain value"),
                               (["--vary", "speed="], "KEY=V1,V2")):
             out = WORK / "refused"
