@@ -21,6 +21,7 @@ import json
 import math
 import os
 import pathlib
+import shutil
 import signal
 import subprocess
 import sys
@@ -634,6 +635,11 @@ def run(selected_nodes=None, only=None, progress=True):
                 print(f"[{r['outcome']:>8}] {r['group']}: {r['case']}  {r.get('detail', '')[:160]}", flush=True)
     finally:
         h.close()
+        # The nodes' logs and bags: kept, and named, when a case went wrong (the report has their tails).
+        if results and all(r["outcome"] in ("refused", "finished") for r in results):
+            shutil.rmtree(h.log_dir, ignore_errors=True)
+        else:
+            print(f"node_fuzz: the nodes' logs and bags are in {h.log_dir}", flush=True)
     return results
 
 
