@@ -6,8 +6,8 @@ usage: ./railvib study [--file STUDY.yaml] [--vary KEY=V1,V2,...]... [--set KEY=
        ./railvib mitigate --measure NAME [--measure NAME]... [--catalogue FILE] [the options above]
 
 KEY is a launch argument of the scenario (speed, foundation, track, coupling, vehicle, duration,
-width, defect_rails, building) or a dotted config key (e.g. unevenness.defect.depth_m), which may name a
-list entry by its index (soil.layers[0].young_modulus_pa). --vary keys form a grid (every
+width, defect_rails, building) or a dotted config key (e.g. unevenness.defect.depth_m), which may
+name a list entry by its index (soil.layers[0].young_modulus_pa). --vary keys form a grid (every
 combination); --set and --arg hold for every run. A study file says the same in YAML:
 
     scenario: haren                 # launch file (launch/<scenario>.launch)
@@ -30,8 +30,9 @@ for a bad study.
 
 With --measure (./railvib mitigate), the runs are the scenario without any measure (the baseline) and
 once with each named measure of the catalogue (config/mitigation.yaml, or --catalogue FILE: NAME:
-{description, set: {dotted keys}}); besides the study's tables it writes the insertion loss of each measure (scripts/mitigation.py:
-mitigation.md, mitigation.csv per band, mitigation_summary.csv, mitigation.png).
+{description, set: {dotted keys}}); besides the study's tables it writes the insertion loss of each
+measure (scripts/mitigation.py: mitigation.md, mitigation.csv per band, mitigation_summary.csv,
+mitigation.png).
 """
 import argparse
 import concurrent.futures
