@@ -24,8 +24,8 @@ writes OUTDIR/study.csv (one row per run and sensor: the varied values, PPV, gov
 its peak, dominant frequency and DIN 4150-3 guideline, KB_Fmax, both verdicts; values from the
 sensors' last /sensor_metrics message, the core's), OUTDIR/study.md (the same, one table) and one
 figure per varied key (PPV and KB_Fmax of every sensor against it). Progress and an ETA are printed
-as runs finish. Every run's config keys are checked by railvib_tool config-check (the loaders' own
-checks) before any run. Exit code: 0 if every run passed, 1 if one failed (the table says which), 2
+as runs finish. Every run's launch arguments and config keys are checked by railvib_tool config-check
+(the loaders' own checks) before any run. Exit code: 0 if every run passed, 1 if one failed (the table says which), 2
 for a bad study.
 
 With --measure (./railvib mitigate), the runs are the scenario without any measure (the baseline) and
@@ -72,6 +72,9 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 # own structural ones; anything else with no dot is refused.
 LAUNCH_ARGUMENTS = {"speed", "foundation", "duration", "track", "coupling", "vehicle", "width", "defect_rails", "building",
                     "sim_time"}
+# The launch files' own arguments (which nodes run, the clock): no config key stands behind them. The
+# others the nodes map to config keys (scenario::launchArgumentKeys), which config-check --arg does too.
+STRUCTURAL_ARGUMENTS = {"building", "sim_time"}
 UNITS = {"speed": "m/s", "duration": "s"}  # launch arguments; config keys carry their unit in the name
 COMPONENTS = ("x", "y", "z")
 
@@ -200,23 +203,27 @@ def list_path(key):
 
 
 def checked_run_lists(base_config, label, values, tool):
-    """Checks a run's config keys with the loader before any run (railvib_tool config-check --dump over
-    the base with the run's keys: every loader's checks, its own rule for an index and its refusal of
-    one past the end), and returns the lists its indexed keys change (soil.layers[0].young_modulus_pa),
-    each whole as the run has it, keyed by the list's dotted path: an included file's list is replaced
-    whole by the including file's, so the run's config file holds the list. The lists hold no file
-    names (the one file key, unevenness.measured_profile.file, is in no list), whose meaning would
-    change with the file that holds them. Without railvib_tool, keys are checked when each run starts,
-    and a key into a list is refused."""
+    """Checks a run's configuration with the loader before any run (railvib_tool config-check --dump over
+    the base with the run's launch arguments, as the nodes map them, and its config keys: every loader's
+    checks, the loader's own rule for an index and its refusal of one past the end), and returns the
+    lists its indexed keys change (soil.layers[0].young_modulus_pa), each whole as the run has it,
+    keyed by the list's dotted path: an included file's list is replaced whole by the including
+    file's, so the run's config file holds the list. The lists hold no file names (the one file key,
+    unevenness.measured_profile.file, is in no list), whose meaning would change with the file that
+    holds them. Without railvib_tool, the run is checked when it starts, and a key into a list is
+    refused."""
     config_keys = [k for k in values if is_config_key(k)]
     indexed = [k for k in config_keys if list_path(k)]
-    if not config_keys:
+    arguments = [a for a in launch_arguments(values) if a.split(":=", 1)[0] not in STRUCTURAL_ARGUMENTS]
+    if not config_keys and not arguments:
         return {}
     if not tool:
         if indexed:
             die(f"run {label}: a key into a list ({indexed[0]}) needs railvib_tool (./railvib setup builds it)")
         return {}
     command = [tool, "config-check", "--config", str(base_config), "--dump"]
+    for argument in arguments:
+        command += ["--arg", argument]
     for key in config_keys:
         command += ["--set", mitigation.override_text(key, values[key])]
     r = subprocess.run(command, capture_output=True, text=True)
@@ -486,10 +493,10 @@ def main(argv):
         measures = []
         runs = plan(spec)
         keys = varied_keys(runs)
-    # Before any run: every run's config keys through the loader's checks (and a key into a list resolved).
+    # Before any run: every run through the loader's checks (and a key into a list resolved).
     tool = find_railvib_tool()
     if not tool:
-        print("railvib study: railvib_tool not found: the config keys are checked when each run starts")
+        print("railvib study: railvib_tool not found: each run's configuration is checked when it starts")
     run_list_values = [checked_run_lists(base, label, values, tool) for label, values in runs]
     print(f"railvib study: {len(runs)} run(s) of {options.scenario}, {options.jobs} at a time, base {base}")
     for i, (label, values) in enumerate(runs):

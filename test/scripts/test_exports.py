@@ -500,6 +500,8 @@ class Study(unittest.TestCase):
                               (["--vary", "soil.layers[9].thickness_m=1,2"], "soil.layers has 5 entries"),
                               # a value a loader refuses, in the second run: no run starts
                               (["--vary", "soil.rayleigh_beta_s=4e-4,-1"], "soil.rayleigh_beta_s = -1"),
+                              # a launch argument as the nodes map it
+                              (["--vary", "speed=5,-1"], "simulation.speed_m_s = -1"),
                               (["--set", "simulation.speed_m_s=[1, 2]"], "one plain value"),
                               (["--vary", "speed="], "KEY=V1,V2")):
             out = WORK / "refused"

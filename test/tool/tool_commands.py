@@ -21,6 +21,8 @@ import tempfile
 import time
 import xml.etree.ElementTree as ET
 
+import yaml
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CI = str(ROOT / "config" / "haren_ci.yaml")
 WORK = pathlib.Path(tempfile.mkdtemp(prefix="railvib_tool_commands_"))
@@ -72,6 +74,19 @@ class Cases:
                              capture_output=True, text=True)
         check(out.returncode != 0 and "resilient_wheels.tread_mass_kg" in out.stderr and "(0, 160) kg" in out.stderr,
               out.stderr)
+        # Launch arguments as the nodes map them (speed:= -> simulation.speed_m_s), before the --set overrides.
+        dump = subprocess.run([self.tool, "config-check", "--config", CI, "--arg", "speed:=5", "--arg",
+                               "foundation:=winkler", "--arg", "duration:=", "--set", "simulation.duration_s=0.25",
+                               "--dump"], capture_output=True, text=True)
+        check(dump.returncode == 0, dump.stderr)
+        merged = yaml.safe_load(dump.stdout)
+        check((merged["simulation"]["speed_m_s"], merged["track"]["foundation"]["model"],
+               merged["simulation"]["duration_s"]) == (5, "winkler", 0.25), merged["simulation"])
+        for arg, message in (("speed:=-1", "simulation.speed_m_s = -1"), ("sped:=5", "not one the nodes know"),
+                             ("speed", "expected NAME:=VALUE"), ("speed:=5, soil.x=1", "one plain value")):
+            out = subprocess.run([self.tool, "config-check", "--config", CI, "--arg", arg], capture_output=True,
+                                 text=True)
+            check(out.returncode == 3 and message in out.stderr, f"--arg {arg}: exit {out.returncode}: {out.stderr}")
 
     # ------------------------------------------------------------------ track
     def receptance(self):

@@ -1,8 +1,9 @@
 // railvib ROS layer: every node loads the same scenario configuration, named
 // by the global parameter /railvib/config_file, with the launch arguments the
 // launch file puts under /railvib/launch_arguments/<name> (one parameter per
-// argument, each mapped to one config key: an argument's value can never name
-// another key), then validates the whole scenario (scenario::validateScenario).
+// argument, each mapped to one config key by scenario::launchArgumentOverrides:
+// an argument's value can never name another key), then validates the whole
+// scenario (scenario::validateScenario).
 #pragma once
 
 #include <ros/ros.h>
@@ -14,14 +15,6 @@
 #include "railvib/common/config.hpp"
 
 namespace railvib::ros_io {
-
-/// Launch argument -> config key it overrides (speed:= -> simulation.speed_m_s, ...).
-const std::vector<std::pair<std::string, std::string>>& launchArgumentKeys();
-
-/// "key=value" overrides of the launch arguments (an empty value keeps the config's); throws
-/// ConfigError for an argument that is not in launchArgumentKeys() or a value that is not one plain
-/// value (a list or map).
-std::vector<std::string> launchArgumentOverrides(const std::vector<std::pair<std::string, std::string>>& arguments);
 
 /// Load and validate the scenario config; throws ConfigError (the node logs it and exits non-zero).
 Config loadNodeConfig(ros::NodeHandle& nh);
