@@ -18,6 +18,7 @@
 #include "railvib/common/config.hpp"
 #include "railvib/common/machine.hpp"
 #include "railvib/common/plausibility.hpp"
+#include "railvib/scenario/launch_arguments.hpp"
 #include "railvib/scenario/scenario.hpp"
 #include "test_sampling.hpp"
 #include "test_scratch.hpp"
@@ -411,6 +412,43 @@ TEST(ScenarioFuzz, EveryUnitSlipOutsideTheTypicalRangeIsRefusedUnlessAccepted) {
   EXPECT_GT(keys, 30u);
   EXPECT_GT(slips, 60u / stride);
   EXPECT_GT(accepted, 30u / stride);
+}
+
+// Each launch argument sets its one config key and nothing else (the nodes' map, and config-check --arg's):
+// a value that would add a key or a list is refused naming the argument; an empty one keeps the file's value.
+TEST(LaunchArguments, EachSetsItsOneKeyWithOnePlainValue) {
+  using railvib::scenario::launchArgumentKeys;
+  using railvib::scenario::launchArgumentOverrides;
+  const std::vector<std::string> set =
+      launchArgumentOverrides({{"speed", "5"}, {"duration", ""}, {"coupling", "one_way"}});
+  EXPECT_EQ(set, (std::vector<std::string>{"simulation.speed_m_s=5", "building.coupling=one_way"}));
+  // Every mapped key is one the CI scenario holds, and a launch of it with that key's own value is valid.
+  const Config ci = Config::load(configPath("haren_ci.yaml"));
+  const YAML::Node tree = YAML::Load(ci.dump());
+  for (const auto& [name, key] : launchArgumentKeys()) {
+    YAML::Node node = YAML::Clone(tree);
+    std::stringstream path(key);
+    for (std::string step; std::getline(path, step, '.');)
+      node.reset(node[step]);  // not =: it would assign into the tree
+    ASSERT_TRUE(node.IsScalar()) << name << " -> " << key;
+    const std::vector<std::string> one = launchArgumentOverrides({{name, node.Scalar()}});
+    ASSERT_EQ(one, (std::vector<std::string>{key + "=" + node.Scalar()}));
+    EXPECT_NO_THROW(validateScenario(Config::load(configPath("haren_ci.yaml"), one))) << name;
+  }
+  auto refused = [](const std::string& name, const std::string& value) {
+    try {
+      launchArgumentOverrides({{name, value}});
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("sped", "5").find("not one the nodes know (speed, duration"), std::string::npos);
+  for (const char* injection : {"5\", \"soil.mesh.max_memory_gb=9999", "5, soil.mesh.max_memory_gb=9999", "[1, 2]",
+                                "{a: 1}", "5\nsoil: {}", "a: b"}) {
+    EXPECT_NE(refused("speed", injection).find("launch argument speed:= must be one plain value"), std::string::npos)
+        << injection;
+  }
 }
 
 TEST(ScenarioFuzz, PlausibilityAcceptIsAListOfKeyPaths) {
