@@ -85,30 +85,6 @@ size_t editDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-// A copy of a value that shares no node with it (YAML::Clone keeps the sharing of aliases).
-YAML::Node expandedCopy(const YAML::Node& value) {
-  YAML::Node copy;
-  switch (value.Type()) {
-    case YAML::NodeType::Map:
-      copy.reset(YAML::Node(YAML::NodeType::Map));
-      for (const auto& kv : value) copy.force_insert(expandedCopy(kv.first), expandedCopy(kv.second));
-      break;
-    case YAML::NodeType::Sequence:
-      copy.reset(YAML::Node(YAML::NodeType::Sequence));
-      for (const auto& item : value) copy.push_back(expandedCopy(item));
-      break;
-    case YAML::NodeType::Scalar:
-      copy.reset(YAML::Node(value.Scalar()));
-      break;
-    default:
-      copy.reset(YAML::Node(YAML::NodeType::Null));
-      return copy;
-  }
-  copy.SetTag(value.Tag());
-  copy.SetStyle(value.Style());
-  return copy;
-}
-
 // One pass over the parse events of one YAML text that checks them and builds the node tree (as
 // yaml-cpp's own YAML::Load builds it: tags, styles; but each alias is a copy of its anchor's value,
 // not the same node, so that an override of one key path never changes another): no repeated key in
@@ -188,7 +164,8 @@ class StrictYamlReader : public YAML::EventHandler {
                      "that hold aliases...); at most " + std::to_string(kMaxAliasDepth) + " allowed");
     }
     add(mark, it->second.size, depth);  // (refuses before the copy when the expansion is too large)
-    attach(expandedCopy(it->second.node));
+    // A copy (YAML::Clone): the tree shares no node, since every alias before this one is a copy too.
+    attach(YAML::Clone(it->second.node));
   }
 
   struct Frame {
