@@ -214,7 +214,7 @@ def checked_run_lists(base_config, label, values, tool):
     refused."""
     config_keys = [k for k in values if is_config_key(k)]
     indexed = [k for k in config_keys if list_path(k)]
-    arguments = [a for a in launch_arguments(values) if a.split(":=", 1)[0] not in STRUCTURAL_ARGUMENTS]
+    arguments = launch_arguments({k: v for k, v in values.items() if k not in STRUCTURAL_ARGUMENTS})
     if not config_keys and not arguments:
         return {}
     if not tool:
